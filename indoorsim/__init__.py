@@ -1,0 +1,1 @@
+"""indoorsim: a simulation-and-benchmark suite for smartphone indoor positioning."""

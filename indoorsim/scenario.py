@@ -1,0 +1,472 @@
+"""Scenario files: the YAML schema, strict validation, loading and dumping.
+
+A scenario describes one building floor and what happens in it: walls, doors,
+windows, pillars, furniture, ceiling lights, steel, WiFi access points, named
+routes and survey plans. ``../shared/examples/minimal-site.yaml`` is the smallest
+complete one; its keys keep their meaning as the schema grows.
+
+Units: metres, degrees, cd, A·m², µT, dBm, m³. Frame: the building frame, x
+along the building's +x axis, y along its +y axis (``site.north_deg`` clockwise
+from true north), z up from the floor.
+
+Every error names the file, the dotted key path and the problem, and nothing is
+half-loaded: :func:`load_scenario` either returns a fully validated
+:class:`Scenario` (schema *and* geometry checked) or raises :class:`ScenarioError`
+listing every problem found.
+"""
+
+from __future__ import annotations
+
+import datetime
+import math
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+
+from indoorsim.world.materials import MaterialName
+
+__all__ = [
+    "DoorSpec",
+    "GridSurveySpec",
+    "LightSpec",
+    "LuminaireSpec",
+    "MagneticSpec",
+    "ObstacleSpec",
+    "PillarSpec",
+    "RadioSpec",
+    "RebarSpec",
+    "RoomSpec",
+    "RouteSpec",
+    "Scenario",
+    "ScenarioError",
+    "SiteSpec",
+    "WalkSurveySpec",
+    "WallSpec",
+    "WifiApSpec",
+    "WindowSpec",
+    "dump_scenario",
+    "load_scenario",
+    "parse_scenario",
+]
+
+
+class ScenarioError(ValueError):
+    """A scenario that cannot be loaded: every problem, each with its key path.
+
+    Attributes:
+        source: the file (or other label) the scenario came from.
+        problems: ``(key_path, message)`` pairs, e.g. ``("walls[2].thickness",
+            "must be > 0")``.
+    """
+
+    def __init__(self, source: str, problems: Sequence[tuple[str, str]]):
+        self.source = source
+        self.problems = list(problems)
+        lines = [f"{source}: {path}: {msg}" if path else f"{source}: {msg}" for path, msg in problems]
+        head = f"invalid scenario ({len(lines)} problem{'s' if len(lines) != 1 else ''}):"
+        super().__init__("\n".join([head, *lines]) if len(lines) > 1 else lines[0])
+
+
+# --------------------------------------------------------------------------- schema
+
+FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
+PositiveFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+Vec2 = tuple[FiniteFloat, FiniteFloat]
+Vec3 = tuple[FiniteFloat, FiniteFloat, FiniteFloat]
+
+
+class _Spec(BaseModel):
+    """Base: unknown keys rejected, no NaN/inf, immutable, strict about types."""
+
+    model_config = ConfigDict(
+        extra="forbid", allow_inf_nan=False, frozen=True, populate_by_name=True
+    )
+
+
+class SiteSpec(_Spec):
+    """Where the building stands and how it is oriented."""
+
+    latitude: Annotated[float, Field(ge=-90, le=90)]
+    longitude: Annotated[float, Field(ge=-180, le=180)]
+    date: datetime.date
+    north_deg: FiniteFloat = 0.0
+    """Direction of the building's +y axis, degrees clockwise from true north."""
+    ceiling_height: PositiveFloat
+    altitude_km: Annotated[float, Field(ge=-1, le=10)] = 0.0
+    earth_field_uT: Vec3 | None = None
+    """Earth field in the building frame, overriding IGRF when given."""
+
+
+class WallSpec(_Spec):
+    """A straight wall segment from floor to ceiling."""
+
+    start: Vec2 = Field(alias="from")
+    to: Vec2
+    thickness: PositiveFloat
+    material: MaterialName = "concrete"
+
+    @model_validator(mode="after")
+    def _non_degenerate(self) -> WallSpec:
+        if math.dist(self.start, self.to) < 1e-6:
+            raise ValueError("zero-length wall: 'from' and 'to' are the same point")
+        return self
+
+
+class DoorSpec(_Spec):
+    """An open doorway: a gap of ``width`` cut into the wall passing through ``position``."""
+
+    position: Vec2
+    width: PositiveFloat = 0.9
+
+
+class WindowSpec(_Spec):
+    """Glazing in a wall between ``from`` and ``to``; lets daylight in when enabled."""
+
+    start: Vec2 = Field(alias="from")
+    to: Vec2
+    sill: NonNegFloat = 0.9
+    head: PositiveFloat = 2.1
+
+    @model_validator(mode="after")
+    def _valid(self) -> WindowSpec:
+        if math.dist(self.start, self.to) < 1e-6:
+            raise ValueError("zero-length window: 'from' and 'to' are the same point")
+        if self.head <= self.sill:
+            raise ValueError(f"window head {self.head} must be above its sill {self.sill}")
+        return self
+
+
+class RoomSpec(_Spec):
+    """A named area (office, corridor, hall): used for labels and plots."""
+
+    name: str
+    polygon: Annotated[list[Vec2], Field(min_length=3)]
+
+
+class PillarSpec(_Spec):
+    """A floor-to-ceiling column (rectangular), blocking walking, light and radio.
+
+    Its reinforcing steel (``steel_volume_m3``) becomes a vertical chain of
+    magnetic dipoles (see :class:`MagneticSpec`).
+    """
+
+    center: Vec2
+    size: tuple[PositiveFloat, PositiveFloat] = (0.6, 0.6)
+    rotation_deg: FiniteFloat = 0.0
+    material: MaterialName = "concrete"
+    steel_volume_m3: NonNegFloat = 0.015
+
+
+class ObstacleSpec(_Spec):
+    """Furniture or equipment below ceiling height: blocks walking only.
+
+    Steel furniture (cabinets, shelves) carries ``steel_volume_m3`` of steel,
+    which becomes one magnetic dipole at half its height.
+    """
+
+    kind: Literal["desk", "cabinet", "shelf", "counter", "machine", "other"] = "other"
+    center: Vec2
+    size: tuple[PositiveFloat, PositiveFloat]
+    rotation_deg: FiniteFloat = 0.0
+    height: PositiveFloat = 0.75
+    steel_volume_m3: NonNegFloat = 0.0
+
+
+class LuminaireSpec(_Spec):
+    """A ceiling light with intensity I(θ) = intensity_cd · cosᵉˣᵖᵒⁿᵉⁿᵗ θ about its axis."""
+
+    position: Vec3
+    intensity_cd: NonNegFloat
+    exponent: NonNegFloat = 1.0
+    axis: Vec3 = (0.0, 0.0, -1.0)
+
+    @field_validator("axis")
+    @classmethod
+    def _unit_axis(cls, v: tuple[float, float, float]) -> tuple[float, float, float]:
+        if math.hypot(*v) < 1e-9:
+            raise ValueError("axis must be a non-zero vector")
+        return v
+
+
+class DaylightSpec(_Spec):
+    """Daylight through windows (off by default: the papers walked at night)."""
+
+    enabled: bool = False
+    exterior_vertical_lux: NonNegFloat = 10000.0
+    transmittance: Annotated[float, Field(ge=0, le=1)] = 0.7
+
+
+class ReflectanceSpec(_Spec):
+    ceiling: Annotated[float, Field(ge=0, lt=1)] = 0.8
+    walls: Annotated[float, Field(ge=0, lt=1)] = 0.5
+    floor: Annotated[float, Field(ge=0, lt=1)] = 0.3
+
+
+class LightSpec(_Spec):
+    """Light model options: inter-reflection (ambient) term and daylight."""
+
+    ambient: bool = True
+    reflectance: ReflectanceSpec = ReflectanceSpec()
+    daylight: DaylightSpec = DaylightSpec()
+
+
+class DipoleSpec(_Spec):
+    """A magnetic point dipole with a fixed moment in the building frame."""
+
+    position: Vec3
+    moment: Vec3
+
+
+class RebarSpec(_Spec):
+    """A reinforcing-steel mesh in a floor or ceiling slab, as a grid of dipoles."""
+
+    z: FiniteFloat
+    spacing: PositiveFloat = 1.0
+    steel_volume_m3_per_m2: NonNegFloat = 0.002
+    region: Annotated[list[Vec2], Field(min_length=3)] | None = None
+    """Polygon covered by the mesh; the building outline when omitted."""
+
+
+class MagneticSpec(_Spec):
+    """Magnetic sources: explicit dipoles, plus the steel of pillars and slabs.
+
+    Steel elements get an induced moment m = χ·V·B_earth/μ0 along the Earth's
+    field plus a remanent moment in a random (seeded) direction whose RMS size
+    is ``remanent_ratio`` times the induced one.
+    """
+
+    dipoles: list[DipoleSpec] = []
+    rebar: list[RebarSpec] = []
+    susceptibility: NonNegFloat = 30.0
+    """Effective (shape-limited) volume susceptibility of rebar steel."""
+    remanent_ratio: NonNegFloat = 0.5
+    pillar_dipole_spacing: PositiveFloat = 0.5
+    min_distance: PositiveFloat = 0.05
+    """Distances to a dipole below this are clamped, keeping the field finite."""
+
+
+class WifiApSpec(_Spec):
+    """A WiFi access point."""
+
+    bssid: Annotated[str, Field(pattern=r"^[0-9a-fA-F]{2}(:[0-9a-fA-F]{2}){5}$")]
+    position: Vec3
+    tx_power_dbm: Annotated[float, Field(ge=-10, le=36, allow_inf_nan=False)] = 18.0
+    frequency_ghz: Annotated[float, Field(ge=2.3, le=7.2, allow_inf_nan=False)] = 2.4
+    ssid: str = ""
+
+
+class RadioSpec(_Spec):
+    """Propagation model: log-distance path loss + multi-wall loss + shadowing."""
+
+    path_loss_exponent: Annotated[float, Field(ge=1.0, le=6.0)] = 2.0
+    system_loss_db: NonNegFloat = 10.0
+    """Antenna, cable and body losses between AP EIRP and the phone's report."""
+    shadowing_sigma_db: NonNegFloat = 4.0
+    shadowing_correlation_m: PositiveFloat = 8.0
+    detection_threshold_dbm: FiniteFloat = -95.0
+
+
+class RouteSpec(_Spec):
+    """A walk: explicit waypoints, or a start and goal joined by a shortest path."""
+
+    waypoints: Annotated[list[Vec2], Field(min_length=2)] | None = None
+    start: Vec2 | None = None
+    goal: Vec2 | None = None
+    speed: Annotated[float, Field(gt=0.1, le=3.0, allow_inf_nan=False)] = 1.2
+
+    @model_validator(mode="after")
+    def _one_form(self) -> RouteSpec:
+        has_wp = self.waypoints is not None
+        has_sg = self.start is not None or self.goal is not None
+        if has_wp == has_sg:
+            raise ValueError("give either 'waypoints' or both 'start' and 'goal'")
+        if has_sg and (self.start is None or self.goal is None):
+            raise ValueError("'start' and 'goal' must be given together")
+        return self
+
+    def points(self) -> list[tuple[float, float]]:
+        """The points that must be walkable (waypoints, or start and goal)."""
+        return list(self.waypoints) if self.waypoints is not None else [self.start, self.goal]
+
+
+class GridSurveySpec(_Spec):
+    """Han2023's offline phase: a phone held flat, still, on a regular grid."""
+
+    kind: Literal["grid"]
+    spacing: PositiveFloat = 1.2
+    duration_s: PositiveFloat = 30.0
+    rate_hz: PositiveFloat = 50.0
+    height: PositiveFloat = 1.2
+    region: Annotated[list[Vec2], Field(min_length=3)] | None = None
+
+
+class WalkSurveySpec(_Spec):
+    """Chen2022's offline phase: walking a route past marked reference points."""
+
+    kind: Literal["walk"]
+    route: str
+    reference_spacing: PositiveFloat = 5.0
+    wifi_dwell_s: PositiveFloat = 10.0
+    repeats: Annotated[int, Field(ge=1)] = 1
+
+
+SurveySpec = Annotated[GridSurveySpec | WalkSurveySpec, Field(discriminator="kind")]
+
+
+class Scenario(_Spec):
+    """A complete, validated scenario (see the module docstring)."""
+
+    name: Annotated[str, Field(min_length=1)]
+    description: str = ""
+    seed: Annotated[int, Field(ge=0)] = 0
+    """Seeds the site's fixed randomness (remanent moments, shadowing fields)."""
+    site: SiteSpec
+    outline: Annotated[list[Vec2], Field(min_length=3)] | None = None
+    """Building footprint; derived from the walls when omitted."""
+    walls: Annotated[list[WallSpec], Field(min_length=1)]
+    doors: list[DoorSpec] = []
+    windows: list[WindowSpec] = []
+    rooms: list[RoomSpec] = []
+    pillars: list[PillarSpec] = []
+    obstacles: list[ObstacleSpec] = []
+    luminaires: list[LuminaireSpec] = []
+    light: LightSpec = LightSpec()
+    magnetic: MagneticSpec = MagneticSpec()
+    wifi: list[WifiApSpec] = []
+    radio: RadioSpec = RadioSpec()
+    routes: dict[str, RouteSpec] = {}
+    surveys: dict[str, SurveySpec] = {}
+
+
+def reference_problems(scenario: Scenario) -> list[tuple[str, str]]:
+    """Problems between keys: duplicate BSSIDs, surveys naming unknown routes."""
+    problems: list[tuple[str, str]] = []
+    seen: dict[str, int] = {}
+    for i, ap in enumerate(scenario.wifi):
+        key = ap.bssid.lower()
+        if key in seen:
+            problems.append((f"wifi[{i}].bssid", f"duplicate BSSID {ap.bssid} (also wifi[{seen[key]}])"))
+        seen.setdefault(key, i)
+    for name, survey in scenario.surveys.items():
+        if isinstance(survey, WalkSurveySpec) and survey.route not in scenario.routes:
+            problems.append(
+                (f"surveys.{name}.route", f"unknown route {survey.route!r}; routes are {sorted(scenario.routes)}")
+            )
+    return problems
+
+
+# --------------------------------------------------------------------------- I/O
+
+
+def _loc_to_path(loc: Iterable[Any]) -> str:
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += f".{part}" if out else str(part)
+    return out
+
+
+def _pydantic_problems(err: ValidationError) -> list[tuple[str, str]]:
+    problems = []
+    for e in err.errors(include_url=False):
+        msg = e["msg"]
+        if msg.startswith("Value error, "):
+            msg = msg[len("Value error, ") :]
+        path = _loc_to_path(e["loc"])
+        if e["type"] == "extra_forbidden":
+            msg = "unknown key"
+        problems.append((path, msg))
+    return problems
+
+
+def parse_scenario(data: Any, source: str = "<scenario>", *, check_geometry: bool = True) -> Scenario:
+    """Validate a mapping (e.g. parsed YAML) into a :class:`Scenario`.
+
+    Args:
+        data: the parsed document.
+        source: label used in error messages (usually the file path).
+        check_geometry: also check the geometry (lights inside the building and
+            not inside walls, doors on walls, windows on walls, routes walkable).
+
+    Raises:
+        ScenarioError: listing every problem, each with its key path.
+    """
+    if not isinstance(data, dict):
+        raise ScenarioError(source, [("", f"expected a mapping at the top level, got {type(data).__name__}")])
+    try:
+        scenario = Scenario.model_validate(data)
+    except ValidationError as err:
+        raise ScenarioError(source, _pydantic_problems(err)) from None
+    problems = reference_problems(scenario)
+    if check_geometry and not problems:
+        from indoorsim.world.plan import geometry_problems
+
+        problems = geometry_problems(scenario)
+    if problems:
+        raise ScenarioError(source, problems)
+    return scenario
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Load and fully validate a scenario YAML file.
+
+    Raises:
+        ScenarioError: for a missing file, a YAML syntax error (with its line),
+            or any schema or geometry problem.
+    """
+    path = Path(path)
+    source = str(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as err:
+        raise ScenarioError(source, [("", f"cannot read file: {err.strerror or err}")]) from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
+        problem = getattr(err, "problem", None) or str(err)
+        raise ScenarioError(source, [("", f"YAML syntax error at {where}{problem}")]) from None
+    return parse_scenario(data, source)
+
+
+class _FlowListDumper(yaml.SafeDumper):
+    """Writes short lists of numbers inline (``[1.0, 2.0]``), as people write them."""
+
+
+def _represent_list(dumper: yaml.SafeDumper, data: list[Any]) -> yaml.Node:
+    flow = all(isinstance(v, int | float | str | bool) for v in data) or all(
+        isinstance(v, list) and all(isinstance(x, int | float) for x in v) for v in data
+    )
+    return dumper.represent_sequence("tag:yaml.org,2002:seq", data, flow_style=flow)
+
+
+_FlowListDumper.add_representer(list, _represent_list)
+
+
+def scenario_to_dict(scenario: Scenario) -> dict[str, Any]:
+    """The scenario as plain YAML-able data, keys as in files.
+
+    Defaults are written out too, so a saved scenario keeps its meaning even if
+    a later version changes a default.
+    """
+    return scenario.model_dump(mode="json", by_alias=True)
+
+
+def dump_scenario(scenario: Scenario, path: str | Path | None = None) -> str:
+    """Write ``scenario`` as YAML (to ``path`` when given) and return the text.
+
+    ``load_scenario(path) == scenario`` holds for every valid scenario.
+    """
+    text = yaml.dump(
+        scenario_to_dict(scenario), Dumper=_FlowListDumper, sort_keys=False, allow_unicode=True
+    )
+    if path is not None:
+        Path(path).write_text(text, encoding="utf-8")
+    return text

@@ -1,0 +1,390 @@
+"""FloorPlan: walls, pillars and furniture of one floor, and the geometric queries on them.
+
+All queries are vectorised over many points or segments at once (a particle
+filter asks about thousands of particle moves per step):
+
+* :meth:`FloorPlan.crosses_wall` — does a move pass through anything solid?
+* :meth:`FloorPlan.is_walkable` — is a point free floor inside the building?
+* :meth:`FloorPlan.light_transmittance` / :meth:`FloorPlan.visible` — line of
+  sight between two points (floor-to-ceiling walls and pillars occlude; glass
+  passes a fraction of the light).
+* :meth:`FloorPlan.crossing_loss_db` — summed radio loss of the elements a
+  straight path crosses (the multi-wall model).
+
+Walls stand from floor to ceiling, so occlusion in 3-D reduces to 2-D crossings
+of the walls' centre lines. Furniture (desks, cabinets) is lower than the
+ceiling and only blocks walking.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike, NDArray
+from shapely.geometry import LineString, Point, Polygon
+from shapely.ops import polygonize, unary_union
+
+from indoorsim.world.materials import MATERIALS, Material
+
+if TYPE_CHECKING:
+    from indoorsim.scenario import Scenario
+
+# Bounds the (segments × edges) work matrices to a few tens of MB.
+_CHUNK_ELEMENTS = 1 << 21
+
+
+@dataclass(frozen=True, kw_only=True)
+class Wall:
+    """A wall piece after doors are cut: centre line ``start``→``end``, floor to ceiling."""
+
+    start: tuple[float, float]
+    end: tuple[float, float]
+    thickness: float
+    material: Material
+    extend_start: bool = True
+    """Whether the solid extends half a thickness past ``start`` (closing corners);
+    False at the jamb of a door, so the door keeps its full clear width."""
+    extend_end: bool = True
+
+    @property
+    def length(self) -> float:
+        return math.dist(self.start, self.end)
+
+    def polygon(self) -> Polygon:
+        """The wall's solid footprint: a rectangle around the centre line."""
+        p0, p1 = np.asarray(self.start), np.asarray(self.end)
+        u = (p1 - p0) / self.length
+        n = np.array([-u[1], u[0]]) * (self.thickness / 2)
+        a = p0 - u * (self.thickness / 2 if self.extend_start else 0.0)
+        b = p1 + u * (self.thickness / 2 if self.extend_end else 0.0)
+        return Polygon([a + n, b + n, b - n, a - n])
+
+
+def _rectangle(center: Sequence[float], size: Sequence[float], rotation_deg: float) -> Polygon:
+    w, d = size[0] / 2, size[1] / 2
+    c, s = math.cos(math.radians(rotation_deg)), math.sin(math.radians(rotation_deg))
+    corners = [(-w, -d), (w, -d), (w, d), (-w, d)]
+    return Polygon([(center[0] + c * x - s * y, center[1] + s * x + c * y) for x, y in corners])
+
+
+def segment_hits(
+    p0: NDArray[np.float64], p1: NDArray[np.float64], a: NDArray[np.float64], b: NDArray[np.float64]
+) -> NDArray[np.bool_]:
+    """Proper intersections between N segments p0→p1 and M segments a→b: (N, M) bool.
+
+    Touching at an end point or running collinearly does not count. Each
+    orientation test is affine in the points, so all four are matrix products
+    over the (N, M) grid instead of Python loops.
+    """
+    d = b - a  # (M, 2)
+    w = np.stack([-d[:, 1], d[:, 0]])  # cross(d, p - a) = p @ w - k
+    k = a[:, 1] * d[:, 0] - a[:, 0] * d[:, 1]
+    o1 = p0 @ w - k
+    o2 = p1 @ w - k
+    e = p1 - p0  # (N, 2)
+    ew = np.stack([e[:, 0], -e[:, 1]], axis=1)  # cross(e, q - p0) = ew @ [q_y, q_x] - c
+    c = (e[:, 0] * p0[:, 1] - e[:, 1] * p0[:, 0])[:, None]
+    o3 = ew @ np.stack([a[:, 1], a[:, 0]]) - c
+    o4 = ew @ np.stack([b[:, 1], b[:, 0]]) - c
+    return (o1 * o2 < 0) & (o3 * o4 < 0)
+
+
+def _as_points(x: ArrayLike, name: str) -> NDArray[np.float64]:
+    arr = np.asarray(x, dtype=float)
+    if arr.ndim == 1 and arr.shape[0] in (2, 3):
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[1] not in (2, 3):
+        raise ValueError(f"{name}: expected points of shape (N, 2) or (N, 3), got {arr.shape}")
+    return arr[:, :2]
+
+
+class FloorPlan:
+    """The static geometry of one floor, built from a :class:`~indoorsim.scenario.Scenario`.
+
+    Attributes:
+        outline: the building footprint (wall centre lines, or the scenario's outline).
+        walls: wall pieces after cutting the doors.
+        pillars: pillar footprints with their materials.
+        obstacles: furniture footprints (block walking only).
+        solid: union of everything that blocks walking.
+        walkable: ``outline`` minus ``solid``.
+        rooms: closed faces of the wall graph (doors closed), used for the
+            ambient-light term; the outline itself when walls close no face.
+    """
+
+    def __init__(self, scenario: Scenario):
+        self.walls: list[Wall] = _cut_doors(scenario)
+        self.outline: Polygon = _outline(scenario)
+        self.pillars: list[tuple[Polygon, Material]] = [
+            (_rectangle(p.center, p.size, p.rotation_deg), MATERIALS[p.material])
+            for p in scenario.pillars
+        ]
+        self.obstacles: list[Polygon] = [
+            _rectangle(o.center, o.size, o.rotation_deg) for o in scenario.obstacles
+        ]
+        self.solid = unary_union(
+            [w.polygon() for w in self.walls] + [p for p, _ in self.pillars] + self.obstacles
+        )
+        self.walkable = self.outline.difference(self.solid)
+        shapely.prepare(self.walkable)
+        faces = [f for f in polygonize(unary_union([LineString([w.start, w.to]) for w in scenario.walls]))]
+        self.rooms: list[Polygon] = faces or [self.outline]
+
+        # Occluding elements as centre-line segments: one per wall, the two
+        # diagonals of each pillar (any line through a convex cell meets one).
+        seg_a, seg_b, seg_elem, materials = [], [], [], []
+        for w in self.walls:
+            seg_a.append(w.start)
+            seg_b.append(w.end)
+            seg_elem.append(len(materials))
+            materials.append(w.material)
+        for poly, mat in self.pillars:
+            c = list(poly.exterior.coords)[:4]
+            for i, j in ((0, 2), (1, 3)):
+                seg_a.append(c[i])
+                seg_b.append(c[j])
+                seg_elem.append(len(materials))
+            materials.append(mat)
+        self._seg_a = np.array(seg_a, dtype=float).reshape(-1, 2)
+        self._seg_b = np.array(seg_b, dtype=float).reshape(-1, 2)
+        self._seg_elem = np.array(seg_elem, dtype=np.intp)
+        self._elem_starts = np.flatnonzero(np.r_[True, np.diff(self._seg_elem) != 0])
+        self.element_materials: list[Material] = materials
+        self._elem_transmittance = np.array([m.light_transmittance for m in materials])
+        opaque = self._elem_transmittance[self._seg_elem] == 0 if materials else np.zeros(0, bool)
+        self._opaque_a, self._opaque_b = self._seg_a[opaque], self._seg_b[opaque]
+        self._glass = np.flatnonzero(self._elem_transmittance > 0)
+
+        edges_a, edges_b = [], []
+        for poly in getattr(self.solid, "geoms", [self.solid]):
+            if poly.is_empty:
+                continue
+            for ring in [poly.exterior, *poly.interiors]:
+                xy = np.asarray(ring.coords)
+                edges_a.append(xy[:-1])
+                edges_b.append(xy[1:])
+        self._edge_a = np.concatenate(edges_a) if edges_a else np.zeros((0, 2))
+        self._edge_b = np.concatenate(edges_b) if edges_b else np.zeros((0, 2))
+
+    # ------------------------------------------------------------------ queries
+
+    @property
+    def bounds(self) -> tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax) of the building including wall thickness."""
+        return tuple(unary_union([self.outline, self.solid]).bounds)  # type: ignore[return-value]
+
+    def is_walkable(self, points: ArrayLike) -> NDArray[np.bool_]:
+        """(N,) True where a point is free floor inside the building."""
+        p = _as_points(points, "points")
+        return shapely.contains_xy(self.walkable, p[:, 0], p[:, 1])
+
+    def crosses_wall(self, p0: ArrayLike, p1: ArrayLike) -> NDArray[np.bool_]:
+        """(N,) True where the straight move p0→p1 passes through a wall, pillar or obstacle.
+
+        Moves that only touch a solid boundary do not count.
+        """
+        a, b = self._pair(p0, p1)
+        return self._any_hit(a, b, self._edge_a, self._edge_b)
+
+    def visible(self, p: ArrayLike, q: ArrayLike) -> NDArray[np.bool_]:
+        """(N,) True where no opaque wall or pillar stands between p and q (glass is see-through)."""
+        a, b = self._pair(p, q)
+        return ~self._any_hit(a, b, self._opaque_a, self._opaque_b)
+
+    def light_transmittance(self, p: ArrayLike, q: ArrayLike) -> NDArray[np.float64]:
+        """(N,) fraction of direct light passing from p to q: 0 behind an opaque
+        element, the product of the glazing transmittances crossed otherwise."""
+        a, b = self._pair(p, q)
+        out = (~self._any_hit(a, b, self._opaque_a, self._opaque_b)).astype(float)
+        if self._glass.size:
+            mask = np.isin(self._seg_elem, self._glass)
+            hits = self._element_hits(a[out > 0], b[out > 0], mask)
+            log_t = np.log(self._elem_transmittance[self._glass])
+            out[out > 0] = np.exp(hits.astype(float) @ log_t)
+        return out
+
+    def crossing_loss_db(self, p0: ArrayLike, p1: ArrayLike, frequency_ghz: float) -> NDArray[np.float64]:
+        """(N,) summed radio attenuation (dB) of the elements the path p0→p1 crosses."""
+        a, b = self._pair(p0, p1)
+        loss = np.array([m.loss_db(frequency_ghz) for m in self.element_materials])
+        out = np.empty(len(a))
+        step = max(1, _CHUNK_ELEMENTS // max(1, len(self._seg_a)))
+        for i in range(0, len(a), step):
+            out[i : i + step] = self._element_hits(a[i : i + step], b[i : i + step]) @ loss
+        return out
+
+    def element_crossings(self, p0: ArrayLike, p1: ArrayLike) -> NDArray[np.bool_]:
+        """(N, n_elements) True where path p0→p1 crosses element j (walls, then pillars)."""
+        a, b = self._pair(p0, p1)
+        return self._element_hits(a, b).astype(bool)
+
+    # ------------------------------------------------------------------ helpers
+
+    @staticmethod
+    def _pair(p0: ArrayLike, p1: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        a, b = _as_points(p0, "p0"), _as_points(p1, "p1")
+        if len(a) == 1 and len(b) > 1:
+            a = np.broadcast_to(a, b.shape)
+        elif len(b) == 1 and len(a) > 1:
+            b = np.broadcast_to(b, a.shape)
+        if a.shape != b.shape:
+            raise ValueError(f"p0 and p1 must have the same number of points: {len(a)} vs {len(b)}")
+        return np.ascontiguousarray(a), np.ascontiguousarray(b)
+
+    @staticmethod
+    def _any_hit(
+        p0: NDArray[np.float64], p1: NDArray[np.float64], ea: NDArray[np.float64], eb: NDArray[np.float64]
+    ) -> NDArray[np.bool_]:
+        out = np.zeros(len(p0), dtype=bool)
+        if len(ea) == 0:
+            return out
+        step = max(1, _CHUNK_ELEMENTS // len(ea))
+        for i in range(0, len(p0), step):
+            out[i : i + step] = segment_hits(p0[i : i + step], p1[i : i + step], ea, eb).any(axis=1)
+        return out
+
+    def _element_hits(
+        self, p0: NDArray[np.float64], p1: NDArray[np.float64], seg_mask: NDArray[np.bool_] | None = None
+    ) -> NDArray[np.float64]:
+        """(N, n_elements) 0/1 crossings, or (N, n_selected_elements) under ``seg_mask``."""
+        sa, sb, elem = self._seg_a, self._seg_b, self._seg_elem
+        if seg_mask is not None:
+            sa, sb, elem = sa[seg_mask], sb[seg_mask], elem[seg_mask]
+        if len(sa) == 0:
+            return np.zeros((len(p0), 0))
+        hits = segment_hits(p0, p1, sa, sb)
+        starts = np.flatnonzero(np.r_[True, np.diff(elem) != 0])
+        return np.logical_or.reduceat(hits, starts, axis=1).astype(float)
+
+
+# ---------------------------------------------------------------------- building
+
+
+def _outline(scenario: Scenario) -> Polygon:
+    if scenario.outline is not None:
+        return Polygon(scenario.outline)
+    faces = list(polygonize(unary_union([LineString([w.start, w.to]) for w in scenario.walls])))
+    if not faces:
+        return Polygon()
+    merged = unary_union(faces)
+    if merged.geom_type == "MultiPolygon":
+        merged = max(merged.geoms, key=lambda g: g.area)
+    return Polygon(merged.exterior)
+
+
+def _cut_doors(scenario: Scenario) -> list[Wall]:
+    """Split the walls at each door, leaving a gap of the door's clear width."""
+    # Per wall: list of (t0, t1) gaps in metres along the centre line.
+    gaps: list[list[tuple[float, float]]] = [[] for _ in scenario.walls]
+    for door in scenario.doors:
+        for i, spec in enumerate(scenario.walls):
+            t = _door_on_wall(door.position, spec.start, spec.to, spec.thickness)
+            if t is not None:
+                gaps[i].append((t - door.width / 2, t + door.width / 2))
+    walls: list[Wall] = []
+    for spec, wall_gaps in zip(scenario.walls, gaps, strict=True):
+        p0, p1 = np.asarray(spec.start, float), np.asarray(spec.to, float)
+        length = float(np.linalg.norm(p1 - p0))
+        u = (p1 - p0) / length
+        pieces: list[tuple[float, float, bool, bool]] = [(0.0, length, True, True)]
+        for g0, g1 in sorted(wall_gaps):
+            nxt = []
+            for s0, s1, e0, e1 in pieces:
+                if g1 <= s0 or g0 >= s1:
+                    nxt.append((s0, s1, e0, e1))
+                    continue
+                if g0 > s0:
+                    nxt.append((s0, g0, e0, False))
+                if g1 < s1:
+                    nxt.append((g1, s1, False, e1))
+            pieces = nxt
+        mat = MATERIALS[spec.material]
+        for s0, s1, e0, e1 in pieces:
+            if s1 - s0 < 1e-6:
+                continue
+            walls.append(
+                Wall(
+                    start=tuple(p0 + u * s0),
+                    end=tuple(p0 + u * s1),
+                    thickness=spec.thickness,
+                    material=mat,
+                    extend_start=e0,
+                    extend_end=e1,
+                )
+            )
+    return walls
+
+
+def _door_on_wall(
+    position: Sequence[float], a: Sequence[float], b: Sequence[float], thickness: float
+) -> float | None:
+    """Distance along wall a→b of the door's projection, or None if the door is not on it."""
+    p, a_, b_ = (np.asarray(v, float) for v in (position, a, b))
+    d = b_ - a_
+    length = float(np.linalg.norm(d))
+    t = float(np.dot(p - a_, d) / length)
+    if t < 0 or t > length:
+        return None
+    off = abs(d[0] * (p[1] - a_[1]) - d[1] * (p[0] - a_[0])) / length
+    return t if off <= thickness / 2 + 1e-6 else None
+
+
+def geometry_problems(scenario: Scenario) -> list[tuple[str, str]]:
+    """Geometric sanity checks of a schema-valid scenario, as (key path, message)."""
+    problems: list[tuple[str, str]] = []
+    if scenario.outline is not None and not Polygon(scenario.outline).is_valid:
+        problems.append(("outline", "polygon is self-intersecting or degenerate"))
+        return problems
+    for i, door in enumerate(scenario.doors):
+        if not any(
+            _door_on_wall(door.position, w.start, w.to, w.thickness) is not None for w in scenario.walls
+        ):
+            problems.append((f"doors[{i}].position", f"{list(door.position)} is not on any wall"))
+    for i, win in enumerate(scenario.windows):
+        on = [
+            j
+            for j, w in enumerate(scenario.walls)
+            if _door_on_wall(win.start, w.start, w.to, w.thickness) is not None
+            and _door_on_wall(win.to, w.start, w.to, w.thickness) is not None
+        ]
+        if not on:
+            problems.append((f"windows[{i}]", "both ends must lie on the same wall"))
+        if win.head > scenario.site.ceiling_height:
+            problems.append((f"windows[{i}].head", "window head is above the ceiling"))
+    plan = FloorPlan(scenario)
+    if plan.outline.is_empty or plan.outline.area <= 0:
+        problems.append(("walls", "the walls enclose no area: close them or give an 'outline'"))
+        return problems
+    h = scenario.site.ceiling_height
+    outline = plan.outline
+    wall_solid = unary_union([w.polygon() for w in plan.walls] + [p for p, _ in plan.pillars])
+    for i, lum in enumerate(scenario.luminaires):
+        x, y, z = lum.position
+        pt = Point(x, y)
+        if not outline.covers(pt):
+            problems.append((f"luminaires[{i}].position", f"{[x, y, z]} is outside the building"))
+        elif wall_solid.contains(pt):
+            problems.append((f"luminaires[{i}].position", f"{[x, y, z]} is inside a wall or pillar"))
+        if not 0 < z <= h + 1e-9:
+            problems.append(
+                (f"luminaires[{i}].position", f"height {z} m is not within the room (0, {h}]")
+            )
+    for i, p in enumerate(scenario.pillars):
+        if not outline.covers(Point(p.center)):
+            problems.append((f"pillars[{i}].center", f"{list(p.center)} is outside the building"))
+    for i, o in enumerate(scenario.obstacles):
+        if not outline.covers(Point(o.center)):
+            problems.append((f"obstacles[{i}].center", f"{list(o.center)} is outside the building"))
+    for name, route in scenario.routes.items():
+        pts = np.array(route.points(), dtype=float)
+        ok = plan.is_walkable(pts)
+        key = "waypoints" if route.waypoints is not None else None
+        for j in np.flatnonzero(~ok):
+            where = f"routes.{name}.{key}[{j}]" if key else f"routes.{name}.{('start', 'goal')[j]}"
+            problems.append((where, f"{pts[j].tolist()} is not in the walkable area"))
+    return problems

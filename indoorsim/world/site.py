@@ -1,0 +1,52 @@
+"""Site: a scenario's floor plan together with its physical fields.
+
+This is the public face of the world model (DESIGN §4)::
+
+    site = indoorsim.load_site("han2023_corridor")   # a bundled name or a YAML path
+    site.magnetic_field(points)          # (N, 3) µT, building frame, Earth + dipoles
+    site.illuminance(points, normals)    # (N,) lux on receivers with unit normals
+    site.rss(points)                     # (N, n_ap) mean dBm (no per-scan fading)
+    site.plan.crosses_wall(p0, p1)       # (N,) bool for N segments
+    site.plan.is_walkable(points)        # (N,) bool
+"""
+
+from __future__ import annotations
+
+from numpy.typing import ArrayLike, NDArray
+import numpy as np
+
+from indoorsim.scenario import Scenario
+from indoorsim.world.light import LightModel
+from indoorsim.world.magnetic import MagneticModel
+from indoorsim.world.plan import FloorPlan
+from indoorsim.world.radio import RadioModel
+
+
+class Site:
+    """A loaded building: geometry (``plan``) and field models (``magnetic``, ``light``, ``radio``)."""
+
+    def __init__(self, scenario: Scenario):
+        self.scenario = scenario
+        self.plan = FloorPlan(scenario)
+        self.magnetic = MagneticModel.from_scenario(scenario, self.plan)
+        self.light = LightModel(scenario, self.plan)
+        self.radio = RadioModel(scenario, self.plan)
+
+    @property
+    def name(self) -> str:
+        return self.scenario.name
+
+    def magnetic_field(self, points: ArrayLike) -> NDArray[np.float64]:
+        """(N, 3) magnetic flux density in µT, building frame, at (N, 3) points."""
+        return self.magnetic.field(points)
+
+    def illuminance(self, points: ArrayLike, normals: ArrayLike) -> NDArray[np.float64]:
+        """(N,) illuminance in lux on receivers at (N, 3) points with (N, 3) unit normals."""
+        return self.light.illuminance(points, normals)
+
+    def rss(self, points: ArrayLike) -> NDArray[np.float64]:
+        """(N, n_ap) mean received power in dBm at (N, 3) points (no per-scan fading)."""
+        return self.radio.rss(points)
+
+    def __repr__(self) -> str:
+        return f"Site({self.name!r})"
