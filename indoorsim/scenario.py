@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import datetime
 import math
+import re
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -65,7 +66,9 @@ class ScenarioError(ValueError):
     def __init__(self, source: str, problems: Sequence[tuple[str, str]]):
         self.source = source
         self.problems = list(problems)
-        lines = [f"{source}: {path}: {msg}" if path else f"{source}: {msg}" for path, msg in problems]
+        lines = [
+            f"{source}: {path}: {msg}" if path else f"{source}: {msg}" for path, msg in problems
+        ]
         head = f"invalid scenario ({len(lines)} problem{'s' if len(lines) != 1 else ''}):"
         super().__init__("\n".join([head, *lines]) if len(lines) > 1 else lines[0])
 
@@ -252,11 +255,18 @@ class MagneticSpec(_Spec):
 class WifiApSpec(_Spec):
     """A WiFi access point."""
 
-    bssid: Annotated[str, Field(pattern=r"^[0-9a-fA-F]{2}(:[0-9a-fA-F]{2}){5}$")]
+    bssid: str
     position: Vec3
     tx_power_dbm: Annotated[float, Field(ge=-10, le=36, allow_inf_nan=False)] = 18.0
     frequency_ghz: Annotated[float, Field(ge=2.3, le=7.2, allow_inf_nan=False)] = 2.4
     ssid: str = ""
+
+    @field_validator("bssid")
+    @classmethod
+    def _mac(cls, v: str) -> str:
+        if not re.fullmatch(r"[0-9a-fA-F]{2}(:[0-9a-fA-F]{2}){5}", v):
+            raise ValueError(f"{v!r} is not a MAC address like 02:00:00:00:00:01")
+        return v
 
 
 class RadioSpec(_Spec):
@@ -349,12 +359,17 @@ def reference_problems(scenario: Scenario) -> list[tuple[str, str]]:
     for i, ap in enumerate(scenario.wifi):
         key = ap.bssid.lower()
         if key in seen:
-            problems.append((f"wifi[{i}].bssid", f"duplicate BSSID {ap.bssid} (also wifi[{seen[key]}])"))
+            problems.append(
+                (f"wifi[{i}].bssid", f"duplicate BSSID {ap.bssid} (also wifi[{seen[key]}])")
+            )
         seen.setdefault(key, i)
     for name, survey in scenario.surveys.items():
         if isinstance(survey, WalkSurveySpec) and survey.route not in scenario.routes:
             problems.append(
-                (f"surveys.{name}.route", f"unknown route {survey.route!r}; routes are {sorted(scenario.routes)}")
+                (
+                    f"surveys.{name}.route",
+                    f"unknown route {survey.route!r}; routes are {sorted(scenario.routes)}",
+                )
             )
     return problems
 
@@ -385,7 +400,9 @@ def _pydantic_problems(err: ValidationError) -> list[tuple[str, str]]:
     return problems
 
 
-def parse_scenario(data: Any, source: str = "<scenario>", *, check_geometry: bool = True) -> Scenario:
+def parse_scenario(
+    data: Any, source: str = "<scenario>", *, check_geometry: bool = True
+) -> Scenario:
     """Validate a mapping (e.g. parsed YAML) into a :class:`Scenario`.
 
     Args:
@@ -398,7 +415,9 @@ def parse_scenario(data: Any, source: str = "<scenario>", *, check_geometry: boo
         ScenarioError: listing every problem, each with its key path.
     """
     if not isinstance(data, dict):
-        raise ScenarioError(source, [("", f"expected a mapping at the top level, got {type(data).__name__}")])
+        raise ScenarioError(
+            source, [("", f"expected a mapping at the top level, got {type(data).__name__}")]
+        )
     try:
         scenario = Scenario.model_validate(data)
     except ValidationError as err:
@@ -470,3 +489,49 @@ def dump_scenario(scenario: Scenario, path: str | Path | None = None) -> str:
     if path is not None:
         Path(path).write_text(text, encoding="utf-8")
     return text
+
+
+# --------------------------------------------------------------------------- registry
+
+ENTRY_POINT_GROUP = "indoorsim.scenarios"
+"""Entry-point group through which other packages add scenarios: each entry
+point loads to a path (or a folder of ``*.yaml`` files)."""
+
+
+def bundled_scenarios() -> dict[str, Path]:
+    """Scenario names → YAML paths: the bundled ones, then any from entry points."""
+    from importlib import resources
+    from importlib.metadata import entry_points
+
+    names: dict[str, Path] = {}
+    folder = resources.files("indoorsim.scenarios")
+    for item in sorted(folder.iterdir(), key=lambda t: t.name):
+        if item.name.endswith(".yaml"):
+            names[item.name[: -len(".yaml")]] = Path(str(item))
+    for ep in entry_points(group=ENTRY_POINT_GROUP):
+        target = Path(str(ep.load()))
+        if target.is_dir():
+            names.update({p.stem: p for p in sorted(target.glob("*.yaml"))})
+        else:
+            names[ep.name] = target
+    return names
+
+
+def resolve_scenario(name_or_path: str | Path) -> Path:
+    """The YAML path for a bundled scenario name, or ``name_or_path`` if it is a file.
+
+    Raises:
+        ScenarioError: neither a known name nor an existing file; lists the names.
+    """
+    known = bundled_scenarios()
+    if str(name_or_path) in known:
+        return known[str(name_or_path)]
+    path = Path(name_or_path)
+    if path.suffix in (".yaml", ".yml") or path.exists():
+        if not path.is_file():
+            raise ScenarioError(str(path), [("", "no such file")])
+        return path
+    raise ScenarioError(
+        str(name_or_path),
+        [("", f"unknown scenario; bundled scenarios are: {', '.join(known) or 'none'}")],
+    )

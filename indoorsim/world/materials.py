@@ -15,9 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
-MaterialName = Literal[
-    "concrete", "brick", "drywall", "glass", "wood", "metal", "metal_door"
-]
+MaterialName = Literal["concrete", "brick", "drywall", "glass", "wood", "metal", "metal_door"]
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -132,7 +132,11 @@ class FloorPlan:
         )
         self.walkable = self.outline.difference(self.solid)
         shapely.prepare(self.walkable)
-        faces = [f for f in polygonize(unary_union([LineString([w.start, w.to]) for w in scenario.walls]))]
+        shapely.prepare(self.solid)
+        faces = [
+            f
+            for f in polygonize(unary_union([LineString([w.start, w.to]) for w in scenario.walls]))
+        ]
         self.rooms: list[Polygon] = faces or [self.outline]
 
         # Occluding elements as centre-line segments: one per wall, the two
@@ -186,13 +190,16 @@ class FloorPlan:
     def crosses_wall(self, p0: ArrayLike, p1: ArrayLike) -> NDArray[np.bool_]:
         """(N,) True where the straight move p0→p1 passes through a wall, pillar or obstacle.
 
-        Moves that only touch a solid boundary do not count.
+        A move that starts or ends inside a solid counts; one that only touches
+        a solid's boundary does not.
         """
         a, b = self._pair(p0, p1)
-        return self._any_hit(a, b, self._edge_a, self._edge_b)
+        inside = shapely.contains_xy(self.solid, a[:, 0], a[:, 1])
+        inside |= shapely.contains_xy(self.solid, b[:, 0], b[:, 1])
+        return inside | self._any_hit(a, b, self._edge_a, self._edge_b)
 
     def visible(self, p: ArrayLike, q: ArrayLike) -> NDArray[np.bool_]:
-        """(N,) True where no opaque wall or pillar stands between p and q (glass is see-through)."""
+        """(N,) True where no opaque wall or pillar stands between p and q (glass lets light by)."""
         a, b = self._pair(p, q)
         return ~self._any_hit(a, b, self._opaque_a, self._opaque_b)
 
@@ -208,7 +215,9 @@ class FloorPlan:
             out[out > 0] = np.exp(hits.astype(float) @ log_t)
         return out
 
-    def crossing_loss_db(self, p0: ArrayLike, p1: ArrayLike, frequency_ghz: float) -> NDArray[np.float64]:
+    def crossing_loss_db(
+        self, p0: ArrayLike, p1: ArrayLike, frequency_ghz: float
+    ) -> NDArray[np.float64]:
         """(N,) summed radio attenuation (dB) of the elements the path p0→p1 crosses."""
         a, b = self._pair(p0, p1)
         loss = np.array([m.loss_db(frequency_ghz) for m in self.element_materials])
@@ -238,7 +247,10 @@ class FloorPlan:
 
     @staticmethod
     def _any_hit(
-        p0: NDArray[np.float64], p1: NDArray[np.float64], ea: NDArray[np.float64], eb: NDArray[np.float64]
+        p0: NDArray[np.float64],
+        p1: NDArray[np.float64],
+        ea: NDArray[np.float64],
+        eb: NDArray[np.float64],
     ) -> NDArray[np.bool_]:
         out = np.zeros(len(p0), dtype=bool)
         if len(ea) == 0:
@@ -249,7 +261,10 @@ class FloorPlan:
         return out
 
     def _element_hits(
-        self, p0: NDArray[np.float64], p1: NDArray[np.float64], seg_mask: NDArray[np.bool_] | None = None
+        self,
+        p0: NDArray[np.float64],
+        p1: NDArray[np.float64],
+        seg_mask: NDArray[np.bool_] | None = None,
     ) -> NDArray[np.float64]:
         """(N, n_elements) 0/1 crossings, or (N, n_selected_elements) under ``seg_mask``."""
         sa, sb, elem = self._seg_a, self._seg_b, self._seg_elem
@@ -342,7 +357,8 @@ def geometry_problems(scenario: Scenario) -> list[tuple[str, str]]:
         return problems
     for i, door in enumerate(scenario.doors):
         if not any(
-            _door_on_wall(door.position, w.start, w.to, w.thickness) is not None for w in scenario.walls
+            _door_on_wall(door.position, w.start, w.to, w.thickness) is not None
+            for w in scenario.walls
         ):
             problems.append((f"doors[{i}].position", f"{list(door.position)} is not on any wall"))
     for i, win in enumerate(scenario.windows):
@@ -369,7 +385,9 @@ def geometry_problems(scenario: Scenario) -> list[tuple[str, str]]:
         if not outline.covers(pt):
             problems.append((f"luminaires[{i}].position", f"{[x, y, z]} is outside the building"))
         elif wall_solid.contains(pt):
-            problems.append((f"luminaires[{i}].position", f"{[x, y, z]} is inside a wall or pillar"))
+            problems.append(
+                (f"luminaires[{i}].position", f"{[x, y, z]} is inside a wall or pillar")
+            )
         if not 0 < z <= h + 1e-9:
             problems.append(
                 (f"luminaires[{i}].position", f"height {z} m is not within the room (0, {h}]")
@@ -387,4 +405,13 @@ def geometry_problems(scenario: Scenario) -> list[tuple[str, str]]:
         for j in np.flatnonzero(~ok):
             where = f"routes.{name}.{key}[{j}]" if key else f"routes.{name}.{('start', 'goal')[j]}"
             problems.append((where, f"{pts[j].tolist()} is not in the walkable area"))
+        if key and ok.all():
+            blocked = plan.crosses_wall(pts[:-1], pts[1:])
+            for j in np.flatnonzero(blocked):
+                problems.append(
+                    (
+                        f"routes.{name}.waypoints[{j}]",
+                        f"the leg {pts[j].tolist()} → {pts[j + 1].tolist()} passes through a wall",
+                    )
+                )
     return problems

@@ -12,8 +12,8 @@ This is the public face of the world model (DESIGN §4)::
 
 from __future__ import annotations
 
-from numpy.typing import ArrayLike, NDArray
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from indoorsim.scenario import Scenario
 from indoorsim.world.light import LightModel
@@ -23,7 +23,7 @@ from indoorsim.world.radio import RadioModel
 
 
 class Site:
-    """A loaded building: geometry (``plan``) and field models (``magnetic``, ``light``, ``radio``)."""
+    """A loaded building: geometry (``plan``), fields (``magnetic``, ``light``, ``radio``)."""
 
     def __init__(self, scenario: Scenario):
         self.scenario = scenario
