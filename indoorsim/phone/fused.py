@@ -1,0 +1,510 @@
+"""Android-style fused (virtual) sensors computed from the simulated raw streams.
+
+A phone does not measure its orientation: Android's sensor service estimates it
+by fusing the gyroscope, accelerometer and magnetometer. indoorsim does the same
+thing to the *simulated* raw streams, so the fused outputs carry exactly the
+errors a phone's would — gyro noise and bias, accelerations mistaken for
+gravity, indoor magnetic disturbances pulling the heading — never truth plus
+noise.
+
+The filter follows the design of AOSP's ``SensorFusion`` (frameworks/native,
+``services/sensorservice/Fusion.cpp``): an indirect (multiplicative) extended
+Kalman filter on the attitude quaternion and the gyro bias, after Trawny &
+Roumeliotis, *Indirect Kalman Filter for 3D Attitude Estimation* (2005):
+
+* state: q (world←phone) and gyro bias b; error state δθ (body-frame small
+  rotation, q_true = q ⊗ δq(δθ)) and δb; covariance P as 2 × 2 blocks of 3 × 3;
+* predict on each gyro sample with ω = ω_meas − b over the sample interval,
+  with the closed-form transition Φ and the process noise of a gyro with white
+  noise variance ``gyro_var`` ((rad/s)²/Hz) and bias random walk
+  ``gyro_bias_var`` ((rad/s)²/s);
+* update on each accelerometer sample with the measured direction of "up"
+  (σ grows as exp(√| |a| − g |) when the phone accelerates, so walking
+  accelerations are down-weighted; skipped near free fall);
+* update on each magnetometer sample with magnetic north made orthogonal to the
+  estimated up (samples with |B| outside 10–100 µT or B parallel to up are
+  rejected, as on a phone);
+* initial attitude from the first accelerometer and magnetometer samples
+  (TRIAD), initial P = 0, as the AOSP filter does.
+
+Two filters run side by side:
+
+* ``rotation`` (Android ``TYPE_ROTATION_VECTOR``): 9-axis. Its world frame is
+  Android's: x magnetic east, y magnetic north, z up;
+* ``game_rotation`` (``TYPE_GAME_ROTATION_VECTOR``): no magnetometer (a
+  pseudo-measurement holds yaw's covariance bounded, the bias is not
+  estimated); its yaw origin is arbitrary and drifts with the gyro.
+
+``gravity`` and ``linear_accel`` are reported at the accelerometer's samples
+from the game-rotation attitude, unaffected by magnetic disturbances (as in
+recent Android releases).
+
+The event loop is sequential by nature (each sample updates the state), so it
+is compiled with numba; each step works on preallocated scratch arrays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+# Event kinds, in the order they are processed when timestamps tie: the state is
+# propagated to a time before the measurements taken at that time update it.
+_GYRO, _ACC, _MAG = 0, 1, 2
+_NOMINAL_GRAVITY = 9.81  # what the AOSP filter assumes, m/s²
+
+
+@dataclass(frozen=True, kw_only=True)
+class FusionParams:
+    """Tuning of the attitude filter (defaults: the AOSP ``DEFAULT_*`` values).
+
+    Attributes:
+        gyro_var: gyro white-noise variance per Hz, (rad/s)²/Hz.
+        gyro_bias_var: gyro bias random-walk variance, (rad/s)²/s.
+        acc_stdev: accelerometer noise, m/s².
+        mag_stdev: magnetometer noise, µT.
+        min_field_uT: magnetometer samples weaker than this are rejected.
+        max_field_uT: magnetometer samples stronger than this are rejected.
+    """
+
+    gyro_var: float = 1e-7
+    gyro_bias_var: float = 1e-12
+    acc_stdev: float = 0.015
+    mag_stdev: float = 0.1
+    min_field_uT: float = 10.0
+    max_field_uT: float = 100.0
+
+
+@dataclass(frozen=True, kw_only=True)
+class FusedStreams:
+    """Outputs of :func:`fuse`, each aligned with the raw samples it was computed on.
+
+    Attributes:
+        t_rotation: (G,) gyro timestamps, s.
+        rotation: (G, 4) 9-axis attitude world←phone (w, x, y, z), magnetic-ENU world.
+        game_rotation: (G, 4) gyro+accel attitude, arbitrary yaw origin.
+        gyro_bias: (G, 3) the 9-axis filter's gyro bias estimate, rad/s.
+        t_gravity: (A,) accelerometer timestamps, s.
+        gravity: (A, 3) gravity in the phone frame, m/s².
+        linear_accel: (A, 3) accelerometer minus gravity, m/s².
+    """
+
+    t_rotation: NDArray[np.float64]
+    rotation: NDArray[np.float64]
+    game_rotation: NDArray[np.float64]
+    gyro_bias: NDArray[np.float64]
+    t_gravity: NDArray[np.float64]
+    gravity: NDArray[np.float64]
+    linear_accel: NDArray[np.float64]
+
+
+def fuse(
+    t_accel: NDArray[np.float64],
+    accel: NDArray[np.float64],
+    t_gyro: NDArray[np.float64],
+    gyro: NDArray[np.float64],
+    t_mag: NDArray[np.float64],
+    mag: NDArray[np.float64],
+    params: FusionParams | None = None,
+    gravity_mps2: float = 9.80665,
+) -> FusedStreams:
+    """Run the 9-axis and the game-rotation filters over raw phone streams.
+
+    Args:
+        t_accel, accel: (A,) s and (A, 3) m/s², specific force in the phone frame.
+        t_gyro, gyro: (G,) s and (G, 3) rad/s.
+        t_mag, mag: (M,) s and (M, 3) µT.
+        params: filter tuning; the AOSP defaults when omitted.
+        gravity_mps2: the gravity magnitude used for the gravity output.
+
+    Returns:
+        The fused streams. The filters start from the attitude given by the
+        first accelerometer and magnetometer samples (a phone's fusion
+        initialises within its first few samples the same way).
+    """
+    p = params or FusionParams()
+    for name, arr in (("accel", accel), ("gyro", gyro), ("mag", mag)):
+        if len(arr) == 0:
+            raise ValueError(f"fuse: the {name} stream is empty; fused sensors need all three")
+    t = np.concatenate([t_accel, t_mag, t_gyro]).astype(float)
+    kind = np.concatenate(
+        [np.full(len(t_accel), _ACC), np.full(len(t_mag), _MAG), np.full(len(t_gyro), _GYRO)]
+    ).astype(np.int64)
+    data = np.concatenate([accel, mag, gyro]).astype(float)
+    order = np.lexsort((kind, t))
+    rot, game, bias, grav = _run(
+        t[order],
+        kind[order],
+        np.ascontiguousarray(data[order]),
+        np.asarray(accel[np.argmin(t_accel)], float),
+        np.asarray(mag[np.argmin(t_mag)], float),
+        len(t_gyro),
+        len(t_accel),
+        p.gyro_var,
+        p.gyro_bias_var,
+        p.acc_stdev,
+        p.mag_stdev,
+        p.min_field_uT**2,
+        p.max_field_uT**2,
+        gravity_mps2,
+    )
+    # Samples were processed in time order; map outputs back to each stream's order.
+    g_order = np.argsort(t_gyro, kind="stable")
+    a_order = np.argsort(t_accel, kind="stable")
+    rotation, game_rotation, gyro_bias, gravity = (
+        np.empty_like(x) for x in (rot, game, bias, grav)
+    )
+    rotation[g_order], game_rotation[g_order], gyro_bias[g_order] = rot, game, bias
+    gravity[a_order] = grav
+    return FusedStreams(
+        t_rotation=np.asarray(t_gyro, float),
+        rotation=rotation,
+        game_rotation=game_rotation,
+        gyro_bias=gyro_bias,
+        t_gravity=np.asarray(t_accel, float),
+        gravity=gravity,
+        linear_accel=np.asarray(accel, float) - gravity,
+    )
+
+
+# ----------------------------------------------------------------- compiled core
+# Quaternions are (w, x, y, z), world←body. R(q) maps body vectors to world.
+
+
+@numba.njit(cache=True)
+def _rotmat(q, r):  # pragma: no cover - compiled
+    w, x, y, z = q[0], q[1], q[2], q[3]
+    r[0, 0] = 1 - 2 * (y * y + z * z)
+    r[0, 1] = 2 * (x * y - w * z)
+    r[0, 2] = 2 * (x * z + w * y)
+    r[1, 0] = 2 * (x * y + w * z)
+    r[1, 1] = 1 - 2 * (x * x + z * z)
+    r[1, 2] = 2 * (y * z - w * x)
+    r[2, 0] = 2 * (x * z - w * y)
+    r[2, 1] = 2 * (y * z + w * x)
+    r[2, 2] = 1 - 2 * (x * x + y * y)
+
+
+@numba.njit(cache=True)
+def _quat_mul_into(a, b, out):  # pragma: no cover - compiled
+    w = a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3]
+    x = a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2]
+    y = a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1]
+    z = a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]
+    out[0], out[1], out[2], out[3] = w, x, y, z
+
+
+@numba.njit(cache=True)
+def _normalise(q):  # pragma: no cover - compiled
+    n = np.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    s = 1.0 / n if q[0] >= 0 else -1.0 / n  # keep w ≥ 0: a continuous output
+    for i in range(4):
+        q[i] *= s
+
+
+@numba.njit(cache=True)
+def _skew(v, m):  # pragma: no cover - compiled
+    m[0, 0], m[0, 1], m[0, 2] = 0.0, -v[2], v[1]
+    m[1, 0], m[1, 1], m[1, 2] = v[2], 0.0, -v[0]
+    m[2, 0], m[2, 1], m[2, 2] = -v[1], v[0], 0.0
+
+
+@numba.njit(cache=True)
+def _triad(acc, mag, q):  # pragma: no cover - compiled
+    """Attitude world←body from body-frame 'up' (accel) and the magnetic field."""
+    up = acc / np.sqrt(np.sum(acc * acc))
+    east = np.cross(mag, up)
+    n = np.sqrt(np.sum(east * east))
+    if n < 1e-9:  # field parallel to gravity: any east will do
+        east = np.cross(
+            np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0]), up
+        )
+        n = np.sqrt(np.sum(east * east))
+    east = east / n
+    north = np.cross(up, east)
+    # The rows of R (world←body) are the world axes seen in the body frame.
+    r = np.empty((3, 3))
+    for i in range(3):
+        r[0, i], r[1, i], r[2, i] = east[i], north[i], up[i]
+    tr = r[0, 0] + r[1, 1] + r[2, 2]
+    if tr > 0:
+        s = np.sqrt(tr + 1.0) * 2
+        q[0] = 0.25 * s
+        q[1] = (r[2, 1] - r[1, 2]) / s
+        q[2] = (r[0, 2] - r[2, 0]) / s
+        q[3] = (r[1, 0] - r[0, 1]) / s
+    elif r[0, 0] > r[1, 1] and r[0, 0] > r[2, 2]:
+        s = np.sqrt(1.0 + r[0, 0] - r[1, 1] - r[2, 2]) * 2
+        q[0] = (r[2, 1] - r[1, 2]) / s
+        q[1] = 0.25 * s
+        q[2] = (r[0, 1] + r[1, 0]) / s
+        q[3] = (r[0, 2] + r[2, 0]) / s
+    elif r[1, 1] > r[2, 2]:
+        s = np.sqrt(1.0 + r[1, 1] - r[0, 0] - r[2, 2]) * 2
+        q[0] = (r[0, 2] - r[2, 0]) / s
+        q[1] = (r[0, 1] + r[1, 0]) / s
+        q[2] = 0.25 * s
+        q[3] = (r[1, 2] + r[2, 1]) / s
+    else:
+        s = np.sqrt(1.0 + r[2, 2] - r[0, 0] - r[1, 1]) * 2
+        q[0] = (r[1, 0] - r[0, 1]) / s
+        q[1] = (r[0, 2] + r[2, 0]) / s
+        q[2] = (r[1, 2] + r[2, 1]) / s
+        q[3] = 0.25 * s
+    _normalise(q)
+
+
+@numba.njit(cache=True)
+def _mm(a, b, out):  # pragma: no cover - compiled
+    """out = a @ b for small matrices, without allocating."""
+    n, m, k = a.shape[0], b.shape[1], a.shape[1]
+    for i in range(n):
+        for j in range(m):
+            acc = 0.0
+            for r in range(k):
+                acc += a[i, r] * b[r, j]
+            out[i, j] = acc
+
+
+@numba.njit(cache=True)
+def _mmt(a, b, out):  # pragma: no cover - compiled
+    """out = a @ b.T for small matrices, without allocating."""
+    n, m, k = a.shape[0], b.shape[0], a.shape[1]
+    for i in range(n):
+        for j in range(m):
+            acc = 0.0
+            for r in range(k):
+                acc += a[i, r] * b[j, r]
+            out[i, j] = acc
+
+
+@numba.njit(cache=True)
+def _predict(q, b, P, w_meas, dt, gyro_var, bias_var, ws):  # pragma: no cover - compiled
+    """Propagate q and P over dt with the bias-corrected body rate.
+
+    Transition Φ = [[Φ00, Φ01], [0, I]] in closed form (Trawny & Roumeliotis
+    2005, eq. 187–202); process noise of white gyro noise plus a bias random walk.
+    """
+    we, dq, qn, wx, wx2, phi, tmp = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5], ws[6]
+    for i in range(3):
+        we[i] = w_meas[i] - b[i]
+    nw = np.sqrt(we[0] * we[0] + we[1] * we[1] + we[2] * we[2])
+    if nw < 1e-9:
+        nw = 1e-9
+    th = nw * dt
+    s = np.sin(0.5 * th) / nw
+    dq[0], dq[1], dq[2], dq[3] = np.cos(0.5 * th), we[0] * s, we[1] * s, we[2] * s
+    _quat_mul_into(q, dq, qn)  # q ← q ⊗ δq(ω dt)
+    q[:] = qn
+    _normalise(q)
+    _skew(we, wx)
+    _mm(wx, wx, wx2)
+    k_sin, k_cos = np.sin(th), np.cos(th)
+    c1, c2 = k_sin / nw, (1 - k_cos) / (nw * nw)
+    c3 = (th - k_sin) / (nw * nw * nw)
+    phi[:] = 0.0  # 6 × 6, lower-right identity
+    for i in range(3):
+        for j in range(3):
+            eye = 1.0 if i == j else 0.0
+            phi[i, j] = eye - wx[i, j] * c1 + wx2[i, j] * c2
+            phi[i, 3 + j] = wx[i, j] * c2 - eye * dt - wx2[i, j] * c3
+        phi[3 + i, 3 + i] = 1.0
+    _mm(phi, P, tmp)
+    _mmt(tmp, phi, P)  # P ← Φ P Φᵀ + G Q Gᵀ
+    q00 = gyro_var * dt + bias_var * dt**3 / 3.0
+    q01 = -0.5 * bias_var * dt * dt
+    q11 = bias_var * dt
+    for i in range(3):
+        P[i, i] += q00
+        P[i, 3 + i] += q01
+        P[3 + i, i] += q01
+        P[3 + i, 3 + i] += q11
+
+
+@numba.njit(cache=True)
+def _update(q, b, P, z, ref_world, sigma, estimate_bias, ws):  # pragma: no cover - compiled
+    """EKF update with a unit reference direction ``ref_world`` measured as ``z`` (body frame).
+
+    h(q) = R(q)ᵀ r and h(q ⊗ δq) ≈ h + [h×] δθ, so H = [[h×], 0].
+    """
+    rmat, h, H, S, Si, K, HP, dq, qn, e = (
+        ws[7],
+        ws[8],
+        ws[9],
+        ws[10],
+        ws[11],
+        ws[12],
+        ws[13],
+        ws[1],
+        ws[2],
+        ws[14],
+    )
+    _rotmat(q, rmat)
+    for i in range(3):
+        h[i] = rmat[0, i] * ref_world[0] + rmat[1, i] * ref_world[1] + rmat[2, i] * ref_world[2]
+    _skew(h, H)
+    # HP = H P[:3, :] (3 × 6); S = H P00 Hᵀ + σ² I.
+    for i in range(3):
+        for j in range(6):
+            acc = 0.0
+            for r in range(3):
+                acc += H[i, r] * P[r, j]
+            HP[i, j] = acc
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for r in range(3):
+                acc += HP[i, r] * H[j, r]
+            S[i, j] = acc + (sigma * sigma if i == j else 0.0)
+    det = (
+        S[0, 0] * (S[1, 1] * S[2, 2] - S[1, 2] * S[2, 1])
+        - S[0, 1] * (S[1, 0] * S[2, 2] - S[1, 2] * S[2, 0])
+        + S[0, 2] * (S[1, 0] * S[2, 1] - S[1, 1] * S[2, 0])
+    )
+    inv_det = 1.0 / det
+    Si[0, 0] = (S[1, 1] * S[2, 2] - S[1, 2] * S[2, 1]) * inv_det
+    Si[0, 1] = (S[0, 2] * S[2, 1] - S[0, 1] * S[2, 2]) * inv_det
+    Si[0, 2] = (S[0, 1] * S[1, 2] - S[0, 2] * S[1, 1]) * inv_det
+    Si[1, 0] = (S[1, 2] * S[2, 0] - S[1, 0] * S[2, 2]) * inv_det
+    Si[1, 1] = (S[0, 0] * S[2, 2] - S[0, 2] * S[2, 0]) * inv_det
+    Si[1, 2] = (S[0, 2] * S[1, 0] - S[0, 0] * S[1, 2]) * inv_det
+    Si[2, 0] = (S[1, 0] * S[2, 1] - S[1, 1] * S[2, 0]) * inv_det
+    Si[2, 1] = (S[0, 1] * S[2, 0] - S[0, 0] * S[2, 1]) * inv_det
+    Si[2, 2] = (S[0, 0] * S[1, 1] - S[0, 1] * S[1, 0]) * inv_det
+    # K = P Hᵀ S⁻¹ = (H P)ᵀ S⁻¹ since P is symmetric: (6 × 3).
+    for i in range(6):
+        for j in range(3):
+            acc = 0.0
+            for r in range(3):
+                acc += HP[r, i] * Si[r, j]
+            K[i, j] = acc
+    for i in range(3):
+        e[i] = z[i] - h[i]
+    # P ← (I − K H) P = P − K (H P), then symmetrised against round-off.
+    for i in range(6):
+        for j in range(6):
+            acc = 0.0
+            for r in range(3):
+                acc += K[i, r] * HP[r, j]
+            P[i, j] -= acc
+    for i in range(6):
+        for j in range(i + 1, 6):
+            m = 0.5 * (P[i, j] + P[j, i])
+            P[i, j] = m
+            P[j, i] = m
+    dq[0] = 1.0
+    for i in range(3):
+        dq[1 + i] = 0.5 * (K[i, 0] * e[0] + K[i, 1] * e[1] + K[i, 2] * e[2])
+    _quat_mul_into(q, dq, qn)
+    q[:] = qn
+    _normalise(q)
+    if estimate_bias:
+        for i in range(3):
+            b[i] += K[3 + i, 0] * e[0] + K[3 + i, 1] * e[1] + K[3 + i, 2] * e[2]
+
+
+@numba.njit(cache=True)
+def _workspace():  # pragma: no cover - compiled
+    return (
+        np.empty(3),
+        np.empty(4),
+        np.empty(4),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((6, 6)),
+        np.empty((6, 6)),
+        np.empty((3, 3)),
+        np.empty(3),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((3, 3)),
+        np.empty((6, 3)),
+        np.empty((3, 6)),
+        np.empty(3),
+    )
+
+
+@numba.njit(cache=True)
+def _run(
+    t,
+    kind,
+    data,
+    first_acc,
+    first_mag,
+    n_gyro,
+    n_acc,
+    gyro_var,
+    bias_var,
+    acc_std,
+    mag_std,
+    min_b2,
+    max_b2,
+    g_out,
+):  # pragma: no cover - compiled
+    rot = np.empty((n_gyro, 4))
+    game = np.empty((n_gyro, 4))
+    bias = np.empty((n_gyro, 3))
+    grav = np.empty((n_acc, 3))
+    # Filter 0: 9-axis; filter 1: game rotation (no magnetometer). Both start
+    # from the TRIAD attitude of the first accelerometer and magnetometer samples.
+    q = np.zeros((2, 4))
+    _triad(first_acc, first_mag, q[0])
+    q[1] = q[0]
+    b = np.zeros((2, 3))
+    P = np.zeros((2, 6, 6))
+    ws = _workspace()
+    rmat = np.empty((3, 3))
+    zp = np.empty(3)
+    up_b = np.empty(3)
+    up_w = np.array([0.0, 0.0, 1.0])
+    north_w = np.array([0.0, 1.0, 0.0])
+    last_gyro_t = np.nan
+    gi, ai = 0, 0
+    for i in range(len(t)):
+        k = kind[i]
+        v = data[i]
+        if k == _GYRO:
+            if not np.isnan(last_gyro_t) and t[i] > last_gyro_t:
+                dt = t[i] - last_gyro_t
+                for f in range(2):
+                    _predict(q[f], b[f], P[f], v, dt, gyro_var, bias_var, ws)
+            last_gyro_t = t[i]
+            rot[gi] = q[0]
+            game[gi] = q[1]
+            bias[gi] = b[0]
+            gi += 1
+        elif k == _ACC:
+            na = np.sqrt(np.sum(v * v))
+            if na > 0.1 * _NOMINAL_GRAVITY:  # no gravity direction in free fall
+                sigma = acc_std * np.exp(np.sqrt(abs(na - _NOMINAL_GRAVITY))) / na
+                for j in range(3):
+                    zp[j] = v[j] / na
+                _update(q[0], b[0], P[0], zp, up_w, sigma, True, ws)
+                _update(q[1], b[1], P[1], zp, up_w, sigma, False, ws)
+                # Game rotation: hold yaw's covariance with a zero-innovation
+                # north pseudo-measurement, as AOSP does without a magnetometer.
+                _rotmat(q[1], rmat)
+                for j in range(3):
+                    zp[j] = rmat[1, j]
+                _update(q[1], b[1], P[1], zp, north_w, mag_std, False, ws)
+            _rotmat(q[1], rmat)
+            for j in range(3):
+                grav[ai, j] = rmat[2, j] * g_out
+            ai += 1
+        else:  # magnetometer
+            b2 = np.sum(v * v)
+            if min_b2 <= b2 <= max_b2:  # reject disturbed or degenerate fields
+                _rotmat(q[0], rmat)
+                for j in range(3):
+                    up_b[j] = rmat[2, j]  # world up seen in the body frame
+                east = np.cross(v, up_b)
+                if np.sum(east * east) >= 1e-6:
+                    north = np.cross(up_b, east)
+                    nn = np.sqrt(np.sum(north * north))
+                    for j in range(3):
+                        zp[j] = north[j] / nn
+                    _update(q[0], b[0], P[0], zp, north_w, mag_std / nn, True, ws)
+    return rot, game, bias, grav
