@@ -275,6 +275,10 @@ class RadioSpec(_Spec):
     path_loss_exponent: Annotated[float, Field(ge=1.0, le=6.0)] = 2.0
     system_loss_db: NonNegFloat = 10.0
     """Antenna, cable and body losses between AP EIRP and the phone's report."""
+    pillar_loss_db: NonNegFloat = 3.0
+    """Loss past a pillar: a 0.4–0.8 m column is narrower than the first Fresnel
+    zone at 2.4–5 GHz (≈ 0.5 m at 5 m range), so most power diffracts around
+    it; a few dB [E] rather than a concrete wall's 12–26 dB."""
     shadowing_sigma_db: NonNegFloat = 4.0
     shadowing_correlation_m: PositiveFloat = 8.0
     detection_threshold_dbm: FiniteFloat = -95.0

@@ -23,6 +23,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numba
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
@@ -33,9 +34,6 @@ from indoorsim.world.materials import MATERIALS, Material
 
 if TYPE_CHECKING:
     from indoorsim.scenario import Scenario
-
-# Bounds the (segments × edges) work matrices to a few tens of MB.
-_CHUNK_ELEMENTS = 1 << 21
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -92,6 +90,56 @@ def segment_hits(
     o3 = ew @ np.stack([a[:, 1], a[:, 0]]) - c
     o4 = ew @ np.stack([b[:, 1], b[:, 0]]) - c
     return (o1 * o2 < 0) & (o3 * o4 < 0)
+
+
+_ANY, _SUM, _PRODUCT = 0, 1, 2
+
+
+@numba.njit(cache=True)
+def _fold_crossings(p0, p1, sa, sb, seg_elem, value, mode, out):  # pragma: no cover - compiled
+    """Fold, per segment p0→p1, a value over the distinct elements it properly crosses.
+
+    ``mode`` _ANY: 1.0 if anything is crossed; _SUM: Σ value[element];
+    _PRODUCT: Π value[element] (stops at 0). Segments of one element are
+    contiguous in ``sa``/``sb``, so an element crossed twice (a pillar's two
+    diagonals) counts once. The same orientation tests as :func:`segment_hits`,
+    with a bounding-box rejection first.
+    """
+    n, m = p0.shape[0], sa.shape[0]
+    for i in range(n):
+        x0, y0, x1, y1 = p0[i, 0], p0[i, 1], p1[i, 0], p1[i, 1]
+        lo_x, hi_x = min(x0, x1), max(x0, x1)
+        lo_y, hi_y = min(y0, y1), max(y0, y1)
+        ex, ey = x1 - x0, y1 - y0
+        acc = 1.0 if mode == _PRODUCT else 0.0
+        counted = -1
+        for j in range(m):
+            ax, ay, bx, by = sa[j, 0], sa[j, 1], sb[j, 0], sb[j, 1]
+            if max(ax, bx) < lo_x or min(ax, bx) > hi_x or max(ay, by) < lo_y or min(ay, by) > hi_y:
+                continue
+            dx, dy = bx - ax, by - ay
+            o1 = dx * (y0 - ay) - dy * (x0 - ax)
+            o2 = dx * (y1 - ay) - dy * (x1 - ax)
+            if o1 * o2 >= 0:
+                continue
+            o3 = ex * (ay - y0) - ey * (ax - x0)
+            o4 = ex * (by - y0) - ey * (bx - x0)
+            if o3 * o4 >= 0:
+                continue
+            e = seg_elem[j]
+            if e == counted:
+                continue
+            counted = e
+            if mode == _ANY:
+                acc = 1.0
+                break
+            if mode == _SUM:
+                acc += value[e]
+            else:
+                acc *= value[e]
+                if acc == 0.0:
+                    break
+        out[i] = acc
 
 
 def _as_points(x: ArrayLike, name: str) -> NDArray[np.float64]:
@@ -157,12 +205,8 @@ class FloorPlan:
         self._seg_a = np.array(seg_a, dtype=float).reshape(-1, 2)
         self._seg_b = np.array(seg_b, dtype=float).reshape(-1, 2)
         self._seg_elem = np.array(seg_elem, dtype=np.intp)
-        self._elem_starts = np.flatnonzero(np.r_[True, np.diff(self._seg_elem) != 0])
         self.element_materials: list[Material] = materials
         self._elem_transmittance = np.array([m.light_transmittance for m in materials])
-        opaque = self._elem_transmittance[self._seg_elem] == 0 if materials else np.zeros(0, bool)
-        self._opaque_a, self._opaque_b = self._seg_a[opaque], self._seg_b[opaque]
-        self._glass = np.flatnonzero(self._elem_transmittance > 0)
 
         edges_a, edges_b = [], []
         for poly in getattr(self.solid, "geoms", [self.solid]):
@@ -174,6 +218,8 @@ class FloorPlan:
                 edges_b.append(xy[1:])
         self._edge_a = np.concatenate(edges_a) if edges_a else np.zeros((0, 2))
         self._edge_b = np.concatenate(edges_b) if edges_b else np.zeros((0, 2))
+        self._edge_ids = np.arange(len(self._edge_a), dtype=np.intp)
+        self._edge_ones = np.ones(len(self._edge_a))
 
     # ------------------------------------------------------------------ queries
 
@@ -196,41 +242,46 @@ class FloorPlan:
         a, b = self._pair(p0, p1)
         inside = shapely.contains_xy(self.solid, a[:, 0], a[:, 1])
         inside |= shapely.contains_xy(self.solid, b[:, 0], b[:, 1])
-        return inside | self._any_hit(a, b, self._edge_a, self._edge_b)
+        hit = self._fold(a, b, self._edge_a, self._edge_b, self._edge_ones, _ANY, self._edge_ids)
+        return inside | (hit > 0)
 
     def visible(self, p: ArrayLike, q: ArrayLike) -> NDArray[np.bool_]:
         """(N,) True where no opaque wall or pillar stands between p and q (glass lets light by)."""
-        a, b = self._pair(p, q)
-        return ~self._any_hit(a, b, self._opaque_a, self._opaque_b)
+        return self.light_transmittance(p, q) > 0
 
     def light_transmittance(self, p: ArrayLike, q: ArrayLike) -> NDArray[np.float64]:
         """(N,) fraction of direct light passing from p to q: 0 behind an opaque
         element, the product of the glazing transmittances crossed otherwise."""
         a, b = self._pair(p, q)
-        out = (~self._any_hit(a, b, self._opaque_a, self._opaque_b)).astype(float)
-        if self._glass.size:
-            mask = np.isin(self._seg_elem, self._glass)
-            hits = self._element_hits(a[out > 0], b[out > 0], mask)
-            log_t = np.log(self._elem_transmittance[self._glass])
-            out[out > 0] = np.exp(hits.astype(float) @ log_t)
-        return out
+        return self._fold(a, b, self._seg_a, self._seg_b, self._elem_transmittance, _PRODUCT)
 
     def crossing_loss_db(
-        self, p0: ArrayLike, p1: ArrayLike, frequency_ghz: float
+        self,
+        p0: ArrayLike,
+        p1: ArrayLike,
+        frequency_ghz: float,
+        pillar_loss_db: float | None = None,
     ) -> NDArray[np.float64]:
-        """(N,) summed radio attenuation (dB) of the elements the path p0→p1 crosses."""
+        """(N,) summed radio attenuation (dB) of the elements the path p0→p1 crosses.
+
+        Walls cost their material's loss. Pillars cost ``pillar_loss_db`` when
+        given (a column narrower than the first Fresnel zone is mostly
+        diffracted around, not through), their material's loss otherwise.
+        """
         a, b = self._pair(p0, p1)
         loss = np.array([m.loss_db(frequency_ghz) for m in self.element_materials])
-        out = np.empty(len(a))
-        step = max(1, _CHUNK_ELEMENTS // max(1, len(self._seg_a)))
-        for i in range(0, len(a), step):
-            out[i : i + step] = self._element_hits(a[i : i + step], b[i : i + step]) @ loss
-        return out
+        if pillar_loss_db is not None:
+            loss[len(self.walls) :] = pillar_loss_db
+        return self._fold(a, b, self._seg_a, self._seg_b, loss, _SUM)
 
     def element_crossings(self, p0: ArrayLike, p1: ArrayLike) -> NDArray[np.bool_]:
         """(N, n_elements) True where path p0→p1 crosses element j (walls, then pillars)."""
         a, b = self._pair(p0, p1)
-        return self._element_hits(a, b).astype(bool)
+        if len(self._seg_a) == 0:
+            return np.zeros((len(a), 0), dtype=bool)
+        hits = segment_hits(a, b, self._seg_a, self._seg_b)
+        starts = np.flatnonzero(np.r_[True, np.diff(self._seg_elem) != 0])
+        return np.logical_or.reduceat(hits, starts, axis=1)
 
     # ------------------------------------------------------------------ helpers
 
@@ -245,36 +296,20 @@ class FloorPlan:
             raise ValueError(f"p0 and p1 must have the same number of points: {len(a)} vs {len(b)}")
         return np.ascontiguousarray(a), np.ascontiguousarray(b)
 
-    @staticmethod
-    def _any_hit(
-        p0: NDArray[np.float64],
-        p1: NDArray[np.float64],
-        ea: NDArray[np.float64],
-        eb: NDArray[np.float64],
-    ) -> NDArray[np.bool_]:
-        out = np.zeros(len(p0), dtype=bool)
-        if len(ea) == 0:
-            return out
-        step = max(1, _CHUNK_ELEMENTS // len(ea))
-        for i in range(0, len(p0), step):
-            out[i : i + step] = segment_hits(p0[i : i + step], p1[i : i + step], ea, eb).any(axis=1)
-        return out
-
-    def _element_hits(
+    def _fold(
         self,
         p0: NDArray[np.float64],
         p1: NDArray[np.float64],
-        seg_mask: NDArray[np.bool_] | None = None,
+        sa: NDArray[np.float64],
+        sb: NDArray[np.float64],
+        value: NDArray[np.float64],
+        mode: int,
+        seg_elem: NDArray[np.intp] | None = None,
     ) -> NDArray[np.float64]:
-        """(N, n_elements) 0/1 crossings, or (N, n_selected_elements) under ``seg_mask``."""
-        sa, sb, elem = self._seg_a, self._seg_b, self._seg_elem
-        if seg_mask is not None:
-            sa, sb, elem = sa[seg_mask], sb[seg_mask], elem[seg_mask]
-        if len(sa) == 0:
-            return np.zeros((len(p0), 0))
-        hits = segment_hits(p0, p1, sa, sb)
-        starts = np.flatnonzero(np.r_[True, np.diff(elem) != 0])
-        return np.logical_or.reduceat(hits, starts, axis=1).astype(float)
+        out = np.empty(len(p0))
+        elem = self._seg_elem if seg_elem is None else seg_elem
+        _fold_crossings(p0, p1, sa, sb, elem, np.ascontiguousarray(value, dtype=float), mode, out)
+        return out
 
 
 # ---------------------------------------------------------------------- building

@@ -76,7 +76,7 @@ def test_outer_corners_are_closed():
     plan = _plan()
     # Wall ends extend half a thickness, so the outer corner square is solid.
     assert shapely.contains_xy(plan.solid, -0.09, -0.09)
-    assert plan.crosses_wall([[0.3, -0.3]], [[-0.3, 0.3]])[0]
+    assert plan.crosses_wall([[0.35, -0.3]], [[-0.3, 0.32]])[0]
 
 
 def test_visibility_and_glass_transmittance():

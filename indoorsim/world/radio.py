@@ -1,0 +1,255 @@
+"""WiFi received power: log-distance path loss, multi-wall loss, correlated shadowing.
+
+Mean RSS (dBm) of access point k at a receiver p (REALISM §4.1, DESIGN §4 "Radio"):
+
+    RSS_k(p) = P_tx,k − L_sys − FSPL(1 m, f_k) − 10·n·log10(max(d, 1 m)/1 m)
+               − Σ_walls L_wall(f_k) + X_k(x, y)
+
+* P_tx the AP's transmit power (EIRP), L_sys the antenna, cable and body
+  losses between it and the phone's report (``radio.system_loss_db``).
+* FSPL(1 m, f) = 20·log10(4π·f·1 m/c): 40.1 dB at 2.412 GHz (REALISM §4.1).
+* d the 3-D distance. The log-distance law is referenced at d0 = 1 m and not
+  meant for the near field, so the RSS is held at its 1 m value inside 1 m:
+  continuous, never rising without bound as the phone nears the AP.
+* Σ L_wall the multi-wall term: each wall the straight 2-D path crosses costs
+  its material's loss at f (``plan.crossing_loss_db``; REALISM §4.2); each
+  pillar costs ``radio.pillar_loss_db``, since most power diffracts around a
+  column narrower than the first Fresnel zone.
+* X_k a zero-mean Gaussian shadowing field with standard deviation σ
+  (``radio.shadowing_sigma_db``) and exponential spatial correlation
+  exp(−Δ/λ) (``radio.shadowing_correlation_m``; REALISM §4.3), fixed per AP
+  and site so that a survey and a later walk see the same value at the same
+  place (see :class:`ShadowingField`).
+
+Per-scan fading, the detection threshold and the 1 dB quantisation belong to
+the phone's scan model; this module gives the mean and exposes
+``detection_threshold_dbm`` for it.
+"""
+
+from __future__ import annotations
+
+import math
+import zlib
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.fft
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from indoorsim.scenario import Scenario
+    from indoorsim.world.plan import FloorPlan
+
+__all__ = ["RadioModel", "ShadowingField", "free_space_loss_1m_db", "shadowing_rng"]
+
+SPEED_OF_LIGHT_M_S = 299_792_458.0
+REFERENCE_DISTANCE_M = 1.0
+
+GRID_SPACING_M = 0.5
+"""Largest node spacing of a shadowing grid (finer when λ/10 is smaller)."""
+GRID_MARGIN_M = 1.0
+"""The grid extends this far beyond the plan's bounds; beyond it the edge values hold."""
+
+# Tags the shadowing streams so they never coincide with another model's
+# streams spawned from the same scenario seed.
+_SHADOWING_STREAM = zlib.crc32(b"indoorsim.radio.shadowing")
+# Circulant embeddings larger than this many cells are refused (~0.5 GB of work arrays).
+_MAX_EMBEDDING_CELLS = 1 << 24
+
+
+def free_space_loss_1m_db(frequency_ghz: float | NDArray[np.float64]) -> NDArray[np.float64]:
+    """Free-space path loss at 1 m, 20·log10(4π·f·d0/c), dB."""
+    f_hz = np.asarray(frequency_ghz, dtype=float) * 1e9
+    return 20 * np.log10(4 * np.pi * f_hz * REFERENCE_DISTANCE_M / SPEED_OF_LIGHT_M_S)
+
+
+def shadowing_rng(seed: int, bssid: str) -> np.random.Generator:
+    """The generator of one AP's shadowing field: a function of the scenario seed and BSSID only.
+
+    Keyed by a hash of the (case-folded) BSSID, not by the AP's index, so that
+    adding, removing or reordering APs leaves every other AP's field unchanged.
+    """
+    key = zlib.crc32(bssid.lower().encode("ascii"))
+    return np.random.default_rng(
+        np.random.SeedSequence(entropy=seed, spawn_key=(_SHADOWING_STREAM, key))
+    )
+
+
+@dataclass(frozen=True, kw_only=True)
+class ShadowingField:
+    """A stationary Gaussian field on a regular grid, interpolated bilinearly.
+
+    Covariance σ²·exp(−Δ/λ) between nodes; sampled exactly on the grid by
+    circulant embedding (Dietrich & Newsam 1997): the covariance of a periodic
+    grid at least twice as large (plus a few λ, so that the wrap-around is
+    negligible) is diagonalised by the 2-D FFT, and the FFT of white noise
+    scaled by the square roots of its eigenvalues has that covariance. Between
+    nodes the field is interpolated bilinearly; at the default spacing
+    (≤ λ/10) that lowers its standard deviation by at most 4 % (at cell
+    centres, 0 at nodes). Outside the grid the nearest edge value holds.
+
+    Attributes:
+        origin: (x, y) of node [0, 0], m.
+        spacing_m: node spacing, m.
+        values: (nx, ny) field at the nodes, indexed [ix, iy], dB.
+    """
+
+    origin: tuple[float, float]
+    spacing_m: float
+    values: NDArray[np.float64]
+
+    @classmethod
+    def sample(
+        cls,
+        rng: np.random.Generator,
+        bounds: tuple[float, float, float, float],
+        sigma_db: float,
+        correlation_m: float,
+        *,
+        spacing_m: float | None = None,
+        margin_m: float = GRID_MARGIN_M,
+    ) -> ShadowingField:
+        """One realisation covering ``bounds`` (xmin, ymin, xmax, ymax) plus ``margin_m``.
+
+        Args:
+            rng: the AP's generator (:func:`shadowing_rng`).
+            bounds: the area to cover, m.
+            sigma_db: standard deviation σ, dB.
+            correlation_m: correlation length λ: ρ(λ) = 1/e.
+            spacing_m: node spacing; min(0.5 m, λ/10) by default.
+            margin_m: extra cover around ``bounds``.
+
+        Raises:
+            ValueError: if the grid would need an unreasonably large embedding
+                (a correlation length far below the building's size).
+        """
+        h = spacing_m if spacing_m is not None else min(GRID_SPACING_M, correlation_m / 10)
+        x0, y0 = bounds[0] - margin_m, bounds[1] - margin_m
+        nx = math.ceil((bounds[2] + margin_m - x0) / h) + 1
+        ny = math.ceil((bounds[3] + margin_m - y0) / h) + 1
+        eigenvalues = _embedding_eigenvalues(nx, ny, h, correlation_m)
+        mx, my = eigenvalues.shape
+        noise = rng.standard_normal((2, mx, my))
+        # Re and Im of this FFT are two independent fields with the embedded
+        # covariance (Dietrich & Newsam); one is enough.
+        field = scipy.fft.fft2(np.sqrt(eigenvalues / (mx * my)) * (noise[0] + 1j * noise[1]))
+        values = sigma_db * np.ascontiguousarray(field.real[:nx, :ny])
+        return cls(origin=(x0, y0), spacing_m=h, values=values)
+
+    def __call__(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+        """(N,) field at (N, 2) points, bilinear between nodes."""
+        nx, ny = self.values.shape
+        fx = np.clip((xy[:, 0] - self.origin[0]) / self.spacing_m, 0, nx - 1)
+        fy = np.clip((xy[:, 1] - self.origin[1]) / self.spacing_m, 0, ny - 1)
+        ix = np.minimum(fx.astype(np.intp), nx - 2)
+        iy = np.minimum(fy.astype(np.intp), ny - 2)
+        tx, ty = fx - ix, fy - iy
+        v = self.values
+        return (1 - tx) * ((1 - ty) * v[ix, iy] + ty * v[ix, iy + 1]) + tx * (
+            (1 - ty) * v[ix + 1, iy] + ty * v[ix + 1, iy + 1]
+        )
+
+
+def _embedding_eigenvalues(nx: int, ny: int, h: float, correlation_m: float) -> NDArray[np.float64]:
+    """Eigenvalues of a periodic grid holding the exp(−Δ/λ) covariance of nx × ny nodes.
+
+    The periodic grid is at least twice the field plus 8λ in each direction,
+    where exp(−8) ≈ 3e-4 makes the wrap-around negligible; the small negative
+    eigenvalues that remain are clipped (their total weight is checked).
+    """
+    pad = math.ceil(8 * correlation_m / h)
+    mx = scipy.fft.next_fast_len(2 * (nx - 1) + pad)
+    my = scipy.fft.next_fast_len(2 * (ny - 1) + pad)
+    if mx * my > _MAX_EMBEDDING_CELLS:
+        raise ValueError(
+            f"shadowing grid of {nx} × {ny} nodes at {h:.3g} m needs a {mx} × {my} embedding; "
+            "use a larger shadowing_correlation_m"
+        )
+    kx, ky = np.arange(mx), np.arange(my)
+    dx = np.minimum(kx, mx - kx) * h
+    dy = np.minimum(ky, my - ky) * h
+    cov = np.exp(-np.hypot(dx[:, None], dy[None, :]) / correlation_m)
+    eigenvalues = scipy.fft.fft2(cov).real
+    negative = -eigenvalues[eigenvalues < 0].sum()
+    if negative > 1e-3 * eigenvalues.sum():
+        raise ValueError(f"circulant embedding is not positive enough ({negative:.3g})")
+    return np.maximum(eigenvalues, 0.0)
+
+
+class RadioModel:
+    """Mean WiFi RSS of every access point of a scenario (see the module docstring).
+
+    Attributes:
+        bssids: the APs' BSSIDs, in scenario order (the columns of :meth:`rss`).
+        positions: (n_ap, 3) AP positions, m.
+        tx_power_dbm: (n_ap,) transmit powers (EIRP), dBm.
+        frequency_ghz: (n_ap,) carrier frequencies, GHz.
+        path_loss_exponent: n of the log-distance law.
+        system_loss_db: losses between EIRP and the phone's report, dB.
+        detection_threshold_dbm: weakest RSS a phone reports (applied by the scan model).
+        shadowing: one field per AP, or ``None`` when σ = 0.
+        plan: the walls and pillars that attenuate.
+    """
+
+    def __init__(self, scenario: Scenario, plan: FloorPlan):
+        radio = scenario.radio
+        self.plan = plan
+        self.bssids: list[str] = [ap.bssid for ap in scenario.wifi]
+        self.positions = np.array([ap.position for ap in scenario.wifi], dtype=float).reshape(-1, 3)
+        self.tx_power_dbm = np.array([ap.tx_power_dbm for ap in scenario.wifi], dtype=float)
+        self.frequency_ghz = np.array([ap.frequency_ghz for ap in scenario.wifi], dtype=float)
+        self.path_loss_exponent = radio.path_loss_exponent
+        self.system_loss_db = radio.system_loss_db
+        self.detection_threshold_dbm = radio.detection_threshold_dbm
+        self.pillar_loss_db = radio.pillar_loss_db
+        self.shadowing: list[ShadowingField] | None = None
+        if radio.shadowing_sigma_db > 0:
+            self.shadowing = [
+                ShadowingField.sample(
+                    shadowing_rng(scenario.seed, bssid),
+                    plan.bounds,
+                    radio.shadowing_sigma_db,
+                    radio.shadowing_correlation_m,
+                )
+                for bssid in self.bssids
+            ]
+
+    def rss(self, points: ArrayLike) -> NDArray[np.float64]:
+        """(N, n_ap) mean received power in dBm at (N, 3) points (no per-scan fading)."""
+        p = _as_points3(points)
+        ref_db = self.tx_power_dbm - self.system_loss_db - free_space_loss_1m_db(self.frequency_ghz)
+        out = np.empty((len(p), len(self.bssids)))
+        for k, (ap, f_ghz) in enumerate(zip(self.positions, self.frequency_ghz, strict=True)):
+            d = np.maximum(np.linalg.norm(p - ap, axis=1), REFERENCE_DISTANCE_M)
+            out[:, k] = (
+                ref_db[k]
+                - 10 * self.path_loss_exponent * np.log10(d / REFERENCE_DISTANCE_M)
+                - self.plan.crossing_loss_db(
+                    p[:, :2], ap[None, :2], float(f_ghz), pillar_loss_db=self.pillar_loss_db
+                )
+            )
+        if self.shadowing is not None:
+            out += self.shadowing_db(p)
+        return out
+
+    def shadowing_db(self, points: ArrayLike) -> NDArray[np.float64]:
+        """(N, n_ap) shadowing term X_k at (N, 2) or (N, 3) points, dB (zeros when σ = 0)."""
+        p = np.asarray(points, dtype=float)
+        if p.ndim != 2 or p.shape[1] not in (2, 3):
+            raise ValueError(f"points: expected shape (N, 2) or (N, 3), got {p.shape}")
+        out = np.zeros((len(p), len(self.bssids)))
+        if self.shadowing is not None:
+            xy = np.ascontiguousarray(p[:, :2])
+            for k, field in enumerate(self.shadowing):
+                out[:, k] = field(xy)
+        return out
+
+
+def _as_points3(points: ArrayLike) -> NDArray[np.float64]:
+    p = np.asarray(points, dtype=float)
+    if p.shape == (3,):
+        p = p[None, :]
+    if p.ndim != 2 or p.shape[1] != 3:
+        raise ValueError(f"points: expected shape (N, 3), got {p.shape}")
+    return p

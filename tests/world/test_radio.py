@@ -1,0 +1,174 @@
+"""Radio model: log-distance law, multi-wall losses, shadowing statistics and seeding."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from indoorsim.scenario import parse_scenario
+from indoorsim.world.materials import MATERIALS
+from indoorsim.world.plan import FloorPlan
+from indoorsim.world.radio import RadioModel, free_space_loss_1m_db
+
+
+def _hall(width: float, depth: float, walls: list[dict] | None = None, **keys: object) -> dict:
+    """A closed concrete hall [0, width] × [0, depth] with a fixed outline, plus ``walls``."""
+    corners = [(0, 0), (width, 0), (width, depth), (0, depth)]
+    outer = [
+        {"from": list(a), "to": list(b), "thickness": 0.2}
+        for a, b in zip(corners, corners[1:] + corners[:1], strict=True)
+    ]
+    return {
+        "name": "hall",
+        "site": {"latitude": 32.6, "longitude": 117.0, "date": "2025-01-01", "ceiling_height": 3.0},
+        "outline": [list(c) for c in corners],
+        "walls": outer + (walls or []),
+        **keys,
+    }
+
+
+def _ap(x: float, y: float, z: float = 2.5, bssid: str = "02:00:00:00:00:01", **keys) -> dict:
+    return {"bssid": bssid, "position": [x, y, z], **keys}
+
+
+def _model(data: dict) -> RadioModel:
+    scenario = parse_scenario(data)
+    return RadioModel(scenario, FloorPlan(scenario))
+
+
+NO_SHADOWING = {"shadowing_sigma_db": 0.0}
+
+
+def test_free_space_loss_at_one_metre_matches_realism_table():
+    # REALISM §4.1: 40.1 dB @ 2.412 GHz, 46.7 dB @ 5.18 GHz, 47.7 dB @ 5.8 GHz.
+    np.testing.assert_allclose(
+        free_space_loss_1m_db(np.array([2.412, 5.18, 5.8])), [40.1, 46.7, 47.7], atol=0.05
+    )
+
+
+@pytest.mark.parametrize("exponent", [1.6, 2.0, 3.3])
+def test_rss_follows_the_log_distance_law_in_free_space(exponent):
+    radio = {"path_loss_exponent": exponent, "system_loss_db": 7.0, **NO_SHADOWING}
+    ap = _ap(30, 30, 1.2, tx_power_dbm=20.0, frequency_ghz=5.2)
+    model = _model(_hall(60, 60, wifi=[ap], radio=radio))
+    d = np.array([0.0, 0.3, 1.0, 2.0, 5.0, 20.0, 25.0])
+    rss = model.rss(np.column_stack([30 + d, 30 + 0 * d, 1.2 + 0 * d]))[:, 0]
+
+    at_1m = 20.0 - 7.0 - free_space_loss_1m_db(5.2)
+    # Inside the 1 m reference distance the RSS holds its 1 m value.
+    np.testing.assert_allclose(rss[:3], at_1m, rtol=0, atol=1e-12)
+    assert np.all(np.diff(rss[2:]) < 0)
+    np.testing.assert_allclose(rss[3] - rss[5], 10 * exponent, atol=1e-9)  # one decade
+    np.testing.assert_allclose(rss[2:], at_1m - 10 * exponent * np.log10(d[2:]), atol=1e-9)
+
+
+def test_rss_uses_the_three_dimensional_distance():
+    model = _model(_hall(20, 20, wifi=[_ap(10, 10, 2.5)], radio=NO_SHADOWING))
+    rss = model.rss([[13.0, 14.0, 2.5], [10.0, 10.0, -2.5]])[:, 0]  # both 5 m away
+    assert rss[0] == pytest.approx(rss[1], abs=1e-12)
+
+
+@pytest.mark.parametrize("frequency_ghz", [2.4, 5.2])
+def test_each_crossed_wall_costs_exactly_its_material_loss(frequency_ghz):
+    partitions = [
+        {"from": [10, 0], "to": [10, 10], "thickness": 0.12, "material": "drywall"},
+        {"from": [20, 0], "to": [20, 10], "thickness": 0.25, "material": "concrete"},
+    ]
+    keys = {"wifi": [_ap(5, 5, frequency_ghz=frequency_ghz)], "radio": NO_SHADOWING}
+    open_hall = _model(_hall(30, 10, **keys))
+    walled = _model(_hall(30, 10, walls=partitions, **keys))
+    points = [[8.0, 2.0, 1.2], [15.0, 8.0, 1.2], [25.0, 5.0, 1.2], [28.0, 1.0, 0.3]]
+    loss = walled.rss(points)[:, 0] - open_hall.rss(points)[:, 0]
+    drywall = MATERIALS["drywall"].loss_db(frequency_ghz)
+    concrete = MATERIALS["concrete"].loss_db(frequency_ghz)
+    np.testing.assert_allclose(
+        loss, [0.0, -drywall, -drywall - concrete, -drywall - concrete], atol=1e-9
+    )
+
+
+def test_a_door_on_the_path_costs_nothing():
+    partition = [{"from": [10, 0], "to": [10, 10], "thickness": 0.2}]
+    keys = {"wifi": [_ap(5, 5)], "radio": NO_SHADOWING}
+    with_door = _model(
+        _hall(20, 10, walls=partition, doors=[{"position": [10, 5], "width": 1.0}], **keys)
+    )
+    open_hall = _model(_hall(20, 10, **keys))
+    p = [[15.0, 5.0, 1.2]]
+    assert with_door.rss(p)[0, 0] == open_hall.rss(p)[0, 0]
+
+
+def test_rss_is_the_deterministic_part_plus_the_shadowing_field():
+    aps = [_ap(5, 5), _ap(25, 8, bssid="02:00:00:00:00:02", frequency_ghz=5.6)]
+    plain = _model(_hall(30, 10, wifi=aps, radio=NO_SHADOWING))
+    shadowed = _model(_hall(30, 10, wifi=aps, radio={"shadowing_sigma_db": 5.0}))
+    p = np.random.default_rng(0).uniform([0, 0, 0], [30, 10, 3], (500, 3))
+    np.testing.assert_allclose(shadowed.rss(p), plain.rss(p) + shadowed.shadowing_db(p), atol=1e-9)
+    assert shadowed.rss(p).shape == (500, 2) and shadowed.bssids == [a["bssid"] for a in aps]
+    assert shadowed.detection_threshold_dbm == -95.0
+
+
+# ------------------------------------------------------------------- shadowing
+
+SIGMA, LAMBDA = 6.0, 2.0
+BSSIDS = [f"02:00:00:00:01:{k:02x}" for k in range(4)]
+
+
+@pytest.fixture(scope="module")
+def field_samples() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Shadowing of 4 APs on a 0.5 m grid over an 80 m hall, and the same shifted by λ in x, y."""
+    radio = {"shadowing_sigma_db": SIGMA, "shadowing_correlation_m": LAMBDA}
+    model = _model(_hall(80, 80, wifi=[_ap(40, 40, bssid=b) for b in BSSIDS], radio=radio, seed=11))
+    g = np.arange(1.0, 77.0, 0.5)
+    xy = np.stack(np.meshgrid(g, g, indexing="ij"), axis=-1).reshape(-1, 2)
+    return (
+        model.shadowing_db(xy),
+        model.shadowing_db(xy + np.array([LAMBDA, 0.0])),
+        model.shadowing_db(xy + np.array([0.0, LAMBDA])),
+    )
+
+
+def test_shadowing_has_the_configured_sigma(field_samples):
+    x, _, _ = field_samples
+    np.testing.assert_allclose(x.std(axis=0), SIGMA, rtol=0.2)
+    assert x.std() == pytest.approx(SIGMA, rel=0.1)
+    assert abs(x.mean()) < SIGMA / 4
+
+
+def test_shadowing_correlation_at_lag_lambda_is_one_over_e(field_samples):
+    x, dx, dy = field_samples
+    for shifted in (dx, dy):
+        rho = np.mean([np.corrcoef(x[:, k], shifted[:, k])[0, 1] for k in range(len(BSSIDS))])
+        assert rho == pytest.approx(math.exp(-1), abs=0.08)
+
+
+def _seeded(seed: int, aps: list[dict]) -> RadioModel:
+    return _model(_hall(30, 20, wifi=aps, seed=seed))
+
+
+POINTS = np.random.default_rng(5).uniform([-1, -1, 0], [31, 21, 3], (400, 3))
+
+
+def test_same_seed_gives_identical_bytes_and_another_seed_another_field():
+    aps = [_ap(5, 5), _ap(20, 15, bssid="02:00:00:00:00:02")]
+    a, b, c = _seeded(3, aps).rss(POINTS), _seeded(3, aps).rss(POINTS), _seeded(4, aps).rss(POINTS)
+    assert a.tobytes() == b.tobytes()
+    assert np.abs(a - c).max() > 1.0
+
+
+def test_an_aps_field_does_not_depend_on_the_other_aps():
+    mine = _ap(5, 5, bssid="02:00:00:00:00:aa")
+    alone = _seeded(3, [mine]).shadowing_db(POINTS)[:, 0]
+    others = [_ap(20, 15, bssid="02:00:00:00:00:02"), _ap(1, 19, bssid="02:00:00:00:00:03")]
+    crowded = _seeded(3, [others[0], mine, others[1]]).shadowing_db(POINTS)[:, 1]
+    assert alone.tobytes() == crowded.tobytes()
+    # The field is keyed by the BSSID itself, whatever its letter case.
+    upper = _seeded(3, [mine | {"bssid": "02:00:00:00:00:AA"}]).shadowing_db(POINTS)[:, 0]
+    assert alone.tobytes() == upper.tobytes()
+
+
+def test_no_access_points_gives_an_empty_column_set():
+    model = _model(_hall(10, 10))
+    assert model.rss(POINTS).shape == (len(POINTS), 0)
+    assert model.bssids == []
