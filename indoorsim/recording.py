@@ -39,8 +39,6 @@ import json
 import math
 import os
 import re
-import secrets
-import shutil
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -50,6 +48,8 @@ import numpy as np
 import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
+
+from indoorsim.atomic import write_folder
 
 __all__ = [
     "FORMAT_VERSION",
@@ -292,28 +292,13 @@ class Recording:
             FileExistsError: ``path`` holds a recording and ``overwrite`` is
                 False, or holds something that is not a recording.
         """
-        target = Path(path)
-        if target.exists() or target.is_symlink():
-            if _is_recording_folder(target):
-                if not overwrite:
-                    raise FileExistsError(
-                        f"{target} already holds a recording; pass overwrite=True to replace it"
-                    )
-            elif not (target.is_dir() and not target.is_symlink() and not any(target.iterdir())):
-                raise FileExistsError(
-                    f"{target} exists and is not an indoorsim recording (no {MANIFEST} with a "
-                    "format_version); refusing to overwrite it"
-                )
-        target.parent.mkdir(parents=True, exist_ok=True)
-        tmp = _sibling(target, "partial")
-        tmp.mkdir()  # not tempfile.mkdtemp: its 0700 mode would outlive the rename
-        try:
-            self._write_folder(tmp)
-            _replace_folder(tmp, target)
-        except BaseException:
-            shutil.rmtree(tmp, ignore_errors=True)
-            raise
-        return target
+        return write_folder(
+            Path(path),
+            self._write_folder,
+            overwrite=overwrite,
+            is_ours=_is_recording_folder,
+            what="recording",
+        )
 
     def _write_folder(self, folder: Path) -> None:
         entries = []
@@ -510,30 +495,3 @@ def _is_recording_folder(path: Path) -> bool:
     except (OSError, UnicodeDecodeError, json.JSONDecodeError):
         return False
     return isinstance(content, dict) and "format_version" in content and "streams" in content
-
-
-def _sibling(target: Path, purpose: str) -> Path:
-    """An unused hidden name beside ``target`` (same file system, so renames are atomic)."""
-    while True:
-        candidate = target.with_name(f".{target.name}.{secrets.token_hex(4)}.{purpose}")
-        if not candidate.exists():
-            return candidate
-
-
-def _replace_folder(new: Path, target: Path) -> None:
-    """Move the finished folder ``new`` to ``target``, replacing what is there.
-
-    An existing ``target`` is first renamed aside, so a failure leaves either the
-    old folder or the new one in place, never a mixture.
-    """
-    if not target.exists():
-        new.rename(target)
-        return
-    aside = _sibling(target, "old")
-    target.rename(aside)
-    try:
-        new.rename(target)
-    except BaseException:
-        aside.rename(target)
-        raise
-    shutil.rmtree(aside, ignore_errors=True)

@@ -281,7 +281,6 @@ class RadioSpec(_Spec):
     it; a few dB [E] rather than a concrete wall's 12–26 dB."""
     shadowing_sigma_db: NonNegFloat = 4.0
     shadowing_correlation_m: PositiveFloat = 8.0
-    detection_threshold_dbm: FiniteFloat = -95.0
 
 
 class RouteSpec(_Spec):

@@ -22,8 +22,8 @@ Mean RSS (dBm) of access point k at a receiver p (REALISM §4.1, DESIGN §4 "Rad
   place (see :class:`ShadowingField`).
 
 Per-scan fading, the detection threshold and the 1 dB quantisation belong to
-the phone's scan model; this module gives the mean and exposes
-``detection_threshold_dbm`` for it.
+the phone (``indoorsim.phone.sensors.scan_rss`` with the device's ``WifiSpec``);
+this module gives the mean.
 """
 
 from __future__ import annotations
@@ -187,7 +187,6 @@ class RadioModel:
         frequency_ghz: (n_ap,) carrier frequencies, GHz.
         path_loss_exponent: n of the log-distance law.
         system_loss_db: losses between EIRP and the phone's report, dB.
-        detection_threshold_dbm: weakest RSS a phone reports (applied by the scan model).
         shadowing: one field per AP, or ``None`` when σ = 0.
         plan: the walls and pillars that attenuate.
     """
@@ -201,7 +200,6 @@ class RadioModel:
         self.frequency_ghz = np.array([ap.frequency_ghz for ap in scenario.wifi], dtype=float)
         self.path_loss_exponent = radio.path_loss_exponent
         self.system_loss_db = radio.system_loss_db
-        self.detection_threshold_dbm = radio.detection_threshold_dbm
         self.pillar_loss_db = radio.pillar_loss_db
         self.shadowing: list[ShadowingField] | None = None
         if radio.shadowing_sigma_db > 0:

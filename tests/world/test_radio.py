@@ -106,7 +106,6 @@ def test_rss_is_the_deterministic_part_plus_the_shadowing_field():
     p = np.random.default_rng(0).uniform([0, 0, 0], [30, 10, 3], (500, 3))
     np.testing.assert_allclose(shadowed.rss(p), plain.rss(p) + shadowed.shadowing_db(p), atol=1e-9)
     assert shadowed.rss(p).shape == (500, 2) and shadowed.bssids == [a["bssid"] for a in aps]
-    assert shadowed.detection_threshold_dbm == -95.0
 
 
 # ------------------------------------------------------------------- shadowing
