@@ -124,6 +124,7 @@ class DoorSpec(_Spec):
 
     position: Vec2
     width: PositiveFloat = 0.9
+    height: PositiveFloat = 2.1
 
 
 class WindowSpec(_Spec):
@@ -162,6 +163,8 @@ class PillarSpec(_Spec):
     rotation_deg: FiniteFloat = 0.0
     material: MaterialName = "concrete"
     steel_volume_m3: NonNegFloat = 0.015
+    """Reinforcing steel per storey; the column continues through the storeys
+    above and below, which carry the same amount."""
 
 
 class ObstacleSpec(_Spec):

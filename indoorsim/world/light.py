@@ -27,6 +27,7 @@ Units: m, cd, lm, lx, cd/m². Frame: the building frame, z up from the floor.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -177,8 +178,13 @@ class RoomAmbient:
 
     A sensor facing up reads E_ind, one facing down reads the floor's
     exitance; with ρ_floor = 0 this reduces to the plain (1+n_z)/2 scaling.
-    Light does not leak between rooms (through doors); sources in no room
-    feed no ambient term, and points in no room get 0.
+
+    Light leaks through open doors: an opening of area A_d in a diffuse field
+    passes the flux E_tot·A_d, which the neighbouring room then spreads over
+    its own surfaces like a source of its own (one pass: what leaks back is
+    second order). A dark room beside a lit corridor so reads a few lux rather
+    than none (REALISM §3.4). Sources in no room feed no ambient term, and
+    points in no room get 0.
 
     Attributes:
         rooms: room footprints (``plan.rooms``).
@@ -197,8 +203,13 @@ class RoomAmbient:
         sources: PointSources,
         ceiling_height: float,
         reflectance: ReflectanceSpec,
+        openings: Sequence[tuple[int, int, float]] = (),
     ) -> RoomAmbient:
-        """Sum each source's flux into the room that contains it and apply the sphere model."""
+        """Sum each source's flux into the room that contains it and apply the sphere model.
+
+        Args:
+            openings: (room i, room j, area m²) of each open door between two rooms.
+        """
         flux = np.zeros(len(rooms))
         x, y = sources.position[:, 0], sources.position[:, 1]
         emitted = sources.flux_lm
@@ -209,7 +220,12 @@ class RoomAmbient:
         surface = 2 * area + wall_area
         rho = reflectance
         rho_mean = (rho.ceiling * area + rho.walls * wall_area + rho.floor * area) / surface
-        total = flux / (surface * (1 - rho_mean))
+        own_total = flux / (surface * (1 - rho_mean))
+        leaked = np.zeros(len(rooms))
+        for i, j, door_area in openings:
+            leaked[j] += own_total[i] * door_area
+            leaked[i] += own_total[j] * door_area
+        total = own_total + leaked / (surface * (1 - rho_mean))
         return cls(rooms=rooms, upper_lux=rho_mean * total, lower_lux=rho.floor * total)
 
     def __call__(
@@ -336,7 +352,11 @@ class LightModel:
         self.ambient: RoomAmbient | None = None
         if scenario.light.ambient:
             self.ambient = RoomAmbient.from_sources(
-                plan.rooms, self.sources, scenario.site.ceiling_height, scenario.light.reflectance
+                plan.rooms,
+                self.sources,
+                scenario.site.ceiling_height,
+                scenario.light.reflectance,
+                door_openings(scenario, plan.rooms),
             )
 
     def illuminance(self, points: ArrayLike, normals: ArrayLike) -> NDArray[np.float64]:
@@ -374,3 +394,32 @@ def _receivers(
     if np.any(length < 1e-12):
         raise ValueError("normals: every normal must be a non-zero vector")
     return np.ascontiguousarray(p), n / length[:, None]
+
+
+def door_openings(scenario: Scenario, rooms: list[Polygon]) -> list[tuple[int, int, float]]:
+    """(room i, room j, area m²) for every door that joins two different rooms.
+
+    The rooms on either side are found by probing just beyond the wall's faces
+    at the door, along the wall's normal.
+    """
+    out = []
+    for door in scenario.doors:
+        p = np.asarray(door.position, dtype=float)
+        for wall in scenario.walls:
+            a, b = np.asarray(wall.start, float), np.asarray(wall.to, float)
+            d = b - a
+            length = float(np.hypot(*d))
+            t = float(np.dot(p - a, d)) / length
+            off = abs(d[0] * (p[1] - a[1]) - d[1] * (p[0] - a[0])) / length
+            if not (0 <= t <= length and off <= wall.thickness / 2 + 1e-6):
+                continue
+            normal = np.array([-d[1], d[0]]) / length
+            probes = p + np.outer([1.0, -1.0], normal) * (wall.thickness / 2 + 0.05)
+            sides = [
+                next((r for r, room in enumerate(rooms) if room.covers(Point(*q))), None)
+                for q in probes
+            ]
+            if sides[0] is not None and sides[1] is not None and sides[0] != sides[1]:
+                out.append((sides[0], sides[1], door.width * door.height))
+            break
+    return out

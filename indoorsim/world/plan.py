@@ -407,6 +407,9 @@ def geometry_problems(scenario: Scenario) -> list[tuple[str, str]]:
             problems.append((f"windows[{i}]", "both ends must lie on the same wall"))
         if win.head > scenario.site.ceiling_height:
             problems.append((f"windows[{i}].head", "window head is above the ceiling"))
+    for i, door in enumerate(scenario.doors):
+        if door.height > scenario.site.ceiling_height:
+            problems.append((f"doors[{i}].height", "door is taller than the ceiling"))
     plan = FloorPlan(scenario)
     if plan.outline.is_empty or plan.outline.area <= 0:
         problems.append(("walls", "the walls enclose no area: close them or give an 'outline'"))

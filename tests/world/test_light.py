@@ -229,6 +229,21 @@ def test_ambient_stays_in_the_lit_room():
     assert on.illuminance([[15.0, 5.0, 1.0]], [0, 0, 1])[0] == 0
 
 
+def test_ambient_leaks_through_an_open_door_by_the_aperture_flux():
+    partition = {"from": [10, 0], "to": [10, 10], "thickness": 0.15}
+    door = {"position": [10, 2], "width": 1.0, "height": 2.0}
+    rho = {"ceiling": 0.5, "walls": 0.5, "floor": 0.5}
+    lit = _box(20, 10, walls=[partition], doors=[door], luminaires=[_lamp((5, 5, 3), 2000.0)])
+    lit["light"] = {"reflectance": rho}
+    on, off = _model(lit), _model(lit | {"light": NO_AMBIENT})
+    # Room surfaces: 2·100 + 40·3 = 320 m² each; ρ̄ = 0.5; lamp flux Φ = π·I0.
+    e_tot_lit = math.pi * 2000.0 / (320 * 0.5)
+    leaked_total = e_tot_lit * 2.0 / (320 * 0.5)  # door area 2 m²
+    dark = _ambient(on, off, [[15.0, 8.0, 1.0]], [0, 0, 1])[0]
+    assert dark == pytest.approx(0.5 * leaked_total, rel=1e-9)
+    assert 0 < dark < _ambient(on, off, [[3.0, 8.0, 1.0]], [0, 0, 1])[0]
+
+
 # ------------------------------------------------------------------- daylight
 
 WINDOW = {"from": [3.5, 0.0], "to": [6.5, 0.0], "sill": 0.9, "head": 2.1}
