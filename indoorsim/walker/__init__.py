@@ -1,1 +1,1 @@
-"""The simulated pedestrian: routes through the walkable area, gait, and how the phone is carried."""
+"""The simulated pedestrian: routes, gait, and how the phone is carried."""
