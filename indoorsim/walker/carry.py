@@ -1,0 +1,692 @@
+"""Carrying modes: where the phone is and how it is turned, given the body's motion.
+
+:func:`carry` follows a :class:`~indoorsim.walker.gait.BodyTrajectory` with the
+phone in one or more carrying modes (DESIGN §5, numbers from REALISM §6.1):
+
+* ``handheld`` — in front of the chest, screen up and pitched toward the eyes
+  (``pitch_deg``: 0 is flat and steady, as in Han2023's experiments; ~30° is
+  texting), y-axis forward; the arm passes the trunk's bounce with damping
+  and adds a faint 8–12 Hz tremor.
+* ``calling`` — at the ear, screen toward the head, long axis tilted 30–60°
+  from vertical, x-axis along ±forward; the head shades the light sensor.
+* ``dangling`` — in the swinging hand: the arm is a pendulum about the
+  shoulder, simulated with pymunk, driven at stride frequency (±15–25°) and
+  shaken by the shoulder's own acceleration.
+* ``pocketed`` — in a front trouser pocket: long axis along the thigh, pitching
+  with the thigh ±18–23° at stride frequency, jolted at the same-side heel
+  strike, in the dark.
+
+Modes are components: frozen dataclasses whose fields are their parameters,
+registered by name in :data:`MODES`. Other packages add modes through the
+``indoorsim.modes`` entry-point group (each entry point loads a
+:class:`CarryMode` subclass); :func:`get_mode` finds either kind and lists
+the valid names when it cannot.
+
+Frames (DESIGN §2): building frame x, y, z up; phone frame as Android's
+sensor frame (x right, y up along the screen, z out of the screen); the body
+frame used inside the modes has x forward, y left, z up. Orientations are
+world←phone quaternions, scalar first. A phone lying flat, screen up, top
+toward +y, has the identity quaternion.
+
+``light_exposure`` scales the illuminance the light sensor would see with its
+normal unobstructed (REALISM §3.5): 1 in the hand (the screen normal's sweep
+already modulates the light), 0.05–0.2 at the ear (head shadow), 0.001–0.005
+in a pocket (fabric).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from abc import ABC, abstractmethod
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from importlib.metadata import entry_points
+from typing import Any, ClassVar, Literal
+
+import numpy as np
+import pymunk
+from numpy.typing import NDArray
+from scipy.interpolate import CubicSpline
+from scipy.ndimage import gaussian_filter1d
+from scipy.signal import butter, sosfilt, sosfilt_zi
+from scipy.spatial.transform import Rotation
+
+from indoorsim.walker.gait import (
+    PELVIS_HEIGHT_RATIO,
+    BodyTrajectory,
+    impulse_displacement,
+    smootherstep,
+)
+
+__all__ = [
+    "ENTRY_POINT_GROUP",
+    "MODES",
+    "Calling",
+    "CarryMode",
+    "Dangling",
+    "Handheld",
+    "ModePose",
+    "PhoneTrajectory",
+    "Pocketed",
+    "Schedule",
+    "available_modes",
+    "carry",
+    "get_mode",
+    "register_mode",
+]
+
+ENTRY_POINT_GROUP = "indoorsim.modes"
+"""Entry-point group through which other packages add carrying modes."""
+
+_G = 9.81
+# Segment heights and lengths as fractions of body height (Drillis & Contini
+# anthropometric ratios, as commonly tabulated) [E].
+_SHOULDER_H, _EAR_H, _CHEST_H, _HIP_H = 0.818, 0.90, 0.70, 0.50
+_ARM_LENGTH = 0.386  # shoulder to the middle of the grip
+_SHOULDER_HALF_WIDTH = 0.115
+_HIP_HALF_WIDTH = 0.055
+# Where the phone sits in a front trouser pocket: along the thigh from the hip
+# joint, and in front of the thigh's axis (m) [E]; and the hip's sideways
+# rocking (ab-/adduction) amplitude (°) [E].
+_POCKET_ALONG_M, _POCKET_FRONT_M, _HIP_ROLL_DEG = 0.15, 0.07, 3.0
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class PhoneTrajectory:
+    """The phone's true motion, sampled like the body.
+
+    Attributes:
+        t: (K,) time in seconds.
+        pos: (K, 3) phone position in the building frame, metres.
+        quat: (K, 4) world←phone unit quaternion (w, x, y, z), sign-continuous.
+        mode: (K,) carrying mode name at each sample (the new mode from the
+            middle of a transition on).
+        light_exposure: (K,) in [0, 1], the fraction of the unobstructed
+            illuminance reaching the light sensor.
+    """
+
+    t: NDArray[np.float64]
+    pos: NDArray[np.float64]
+    quat: NDArray[np.float64]
+    mode: NDArray[np.str_]
+    light_exposure: NDArray[np.float64]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class ModePose:
+    """One mode's phone pose over a stretch of samples.
+
+    Attributes:
+        pos: (K, 3) position, building frame.
+        rot: K world←phone rotations.
+        light_exposure: (K,) in [0, 1].
+    """
+
+    pos: NDArray[np.float64]
+    rot: Rotation
+    light_exposure: NDArray[np.float64]
+
+
+class CarryMode(ABC):
+    """A way of carrying the phone. Subclasses are ``@dataclass(kw_only=True, frozen=True)``
+    components whose fields are the mode's parameters, with working defaults.
+    """
+
+    name: ClassVar[str]
+
+    @abstractmethod
+    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
+        """The phone's pose while the body moves as ``body`` (any stretch of a walk).
+
+        Args:
+            body: the body trajectory, possibly a window of a longer one.
+            rng: randomness for this use of the mode (placement, amplitudes).
+        """
+
+
+MODES: dict[str, type[CarryMode]] = {}
+"""Built-in and registered carrying modes by name."""
+
+
+def register_mode(cls: type[CarryMode]) -> type[CarryMode]:
+    """Class decorator: add a :class:`CarryMode` subclass to :data:`MODES` under ``cls.name``."""
+    if not (isinstance(cls, type) and issubclass(cls, CarryMode)):
+        raise TypeError(f"{cls!r} is not a CarryMode subclass")
+    if MODES.get(cls.name, cls) is not cls:
+        raise ValueError(f"a different carrying mode is already registered as {cls.name!r}")
+    MODES[cls.name] = cls
+    return cls
+
+
+def _load_plugins() -> None:
+    for ep in entry_points(group=ENTRY_POINT_GROUP):
+        if ep.name not in MODES:
+            cls = ep.load()
+            if not (isinstance(cls, type) and issubclass(cls, CarryMode)):
+                raise TypeError(
+                    f"entry point {ep.name!r} in {ENTRY_POINT_GROUP!r} loads {cls!r}, "
+                    "not a CarryMode subclass"
+                )
+            MODES[ep.name] = cls
+
+
+def available_modes() -> list[str]:
+    """Names of every carrying mode: built in, registered, or from entry points."""
+    _load_plugins()
+    return sorted(MODES)
+
+
+def get_mode(name: str) -> type[CarryMode]:
+    """The carrying-mode class registered as ``name``.
+
+    Raises:
+        KeyError: for an unknown name; the message lists the valid ones.
+    """
+    if name not in MODES:
+        _load_plugins()
+    if name not in MODES:
+        raise KeyError(f"unknown carrying mode {name!r}; valid modes are {sorted(MODES)}")
+    return MODES[name]
+
+
+# ---------------------------------------------------------------------- carry
+
+Schedule = str | Sequence[tuple[float, str] | tuple[float, str, Mapping[str, Any]]]
+
+
+def carry(
+    body: BodyTrajectory,
+    schedule: Schedule,
+    rng: np.random.Generator,
+    transition_s: float = 1.5,
+) -> PhoneTrajectory:
+    """The phone's trajectory while the walker carries it as ``schedule`` says.
+
+    Args:
+        body: the walker's body trajectory (from :func:`~indoorsim.walker.gait.walk`).
+        schedule: a mode name for the whole walk, or a list of
+            ``(t_start, mode_name)`` or ``(t_start, mode_name, params)``
+            entries, the first at t = 0, each later one at least
+            ``transition_s`` after the one before. ``params`` are the mode's
+            fields, e.g. ``(0.0, "handheld", {"pitch_deg": 0.0})``.
+        rng: the only source of randomness.
+        transition_s: how long a change of mode takes (1–3 s, REALISM §6.1);
+            positions blend smoothly (C²) and orientations by slerp over it.
+
+    Returns:
+        The phone trajectory on the body's time base.
+
+    Raises:
+        ValueError: for a malformed schedule or unknown mode parameters.
+        KeyError: for an unknown mode name.
+    """
+    if not 0 < transition_s <= 10:
+        raise ValueError(f"transition_s must be in (0, 10] s, got {transition_s}")
+    entries = _parse_schedule(schedule, body, transition_s)
+    t = body.t
+    n = len(t)
+    rngs = rng.spawn(len(entries))
+    starts = [int(np.searchsorted(t, e[0], "left")) for e in entries]
+    poses: list[tuple[int, ModePose]] = []
+    for j, (mode, child) in enumerate(zip((e[1] for e in entries), rngs, strict=True)):
+        i0 = starts[j]
+        i1 = (
+            n
+            if j + 1 == len(entries)
+            else int(np.searchsorted(t, entries[j + 1][0] + transition_s, "right"))
+        )
+        i1 = min(max(i1, i0 + 2), n)
+        poses.append((i0, mode.pose(body.window(i0, i1), child)))
+
+    pos = np.empty((n, 3))
+    quat = np.empty((n, 4))
+    light = np.empty(n)
+    names = np.empty(n, dtype=object)
+    for j, (i0, pose) in enumerate(poses):
+        sl = slice(i0, i0 + len(pose.pos))
+        pos[sl], light[sl] = pose.pos, pose.light_exposure
+        quat[sl] = pose.rot.as_quat(scalar_first=True)
+        names[sl] = entries[j][1].name
+        if j == 0:
+            continue
+        # Blend from the previous mode, which was evaluated past this start.
+        prev_i0, prev = poses[j - 1]
+        k = min(len(pose.pos), prev_i0 + len(prev.pos) - i0)
+        w = smootherstep((t[i0 : i0 + k] - t[i0]) / transition_s)
+        a = slice(i0 - prev_i0, i0 - prev_i0 + k)
+        wc = w[:, None]
+        pos[i0 : i0 + k] = (1 - wc) * prev.pos[a] + wc * pose.pos[:k]
+        light[i0 : i0 + k] = (1 - w) * prev.light_exposure[a] + w * pose.light_exposure[:k]
+        quat[i0 : i0 + k] = _slerp(prev.rot[a], pose.rot[:k], w).as_quat(scalar_first=True)
+        names[i0 : i0 + k] = np.where(w < 0.5, entries[j - 1][1].name, entries[j][1].name)
+    return PhoneTrajectory(
+        t=t,
+        pos=pos,
+        quat=_sign_continuous(quat),
+        mode=names.astype(str),
+        light_exposure=np.clip(light, 0.0, 1.0),
+    )
+
+
+def _parse_schedule(
+    schedule: Schedule, body: BodyTrajectory, transition_s: float
+) -> list[tuple[float, CarryMode]]:
+    raw = [(0.0, schedule)] if isinstance(schedule, str) else list(schedule)
+    if not raw:
+        raise ValueError("empty carrying schedule")
+    out: list[tuple[float, CarryMode]] = []
+    for i, entry in enumerate(raw):
+        if not isinstance(entry, tuple | list) or len(entry) not in (2, 3):
+            raise ValueError(
+                f"schedule[{i}]: expected (t_start, mode) or (t_start, mode, params), got {entry!r}"
+            )
+        t_start, name = float(entry[0]), entry[1]
+        params = dict(entry[2]) if len(entry) == 3 else {}
+        if i == 0 and t_start > body.t[0]:
+            raise ValueError(f"schedule[0]: the first mode must start at 0, not {t_start}")
+        if i > 0 and t_start < out[-1][0] + transition_s:
+            raise ValueError(
+                f"schedule[{i}]: starts at {t_start} s, less than the {transition_s} s "
+                f"transition after the previous mode at {out[-1][0]} s"
+            )
+        if i > 0 and t_start >= body.t[-1]:
+            raise ValueError(f"schedule[{i}]: starts at {t_start} s, after the walk ends")
+        cls = get_mode(name)
+        fields = (
+            {f.name for f in dataclasses.fields(cls)} if dataclasses.is_dataclass(cls) else set()
+        )
+        unknown = sorted(set(params) - fields)
+        if unknown:
+            raise ValueError(
+                f"schedule[{i}]: unknown parameter(s) {unknown} for mode {name!r}; "
+                f"its parameters are {sorted(fields)}"
+            )
+        out.append((max(t_start, float(body.t[0])), cls(**params)))
+    return out
+
+
+def _slerp(a: Rotation, b: Rotation, w: NDArray[np.float64]) -> Rotation:
+    """Per-sample slerp from ``a`` to ``b`` by ``w``, continuous in time.
+
+    The relative rotation's log is unwrapped: when it passes through 180°
+    the equivalent rotation vector on the other side is kept, so the blend
+    does not jump from one way round to the other.
+    """
+    rel = (a.inv() * b).as_rotvec()
+    for k in range(1, len(rel)):
+        angle = np.linalg.norm(rel[k])
+        if angle > 1e-12:
+            alt = rel[k] * (1.0 - 2.0 * np.pi / angle)
+            if np.linalg.norm(alt - rel[k - 1]) < np.linalg.norm(rel[k] - rel[k - 1]):
+                rel[k] = alt
+    return a * Rotation.from_rotvec(rel * w[:, None])
+
+
+def _sign_continuous(q: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Flip quaternion signs so consecutive samples stay on the same hemisphere (w ≥ 0 first)."""
+    flips = np.r_[q[0, 0] < 0, np.einsum("ij,ij->i", q[1:], q[:-1]) < 0]
+    sign = np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)
+    return q * sign[:, None]
+
+
+# ---------------------------------------------------------------------- shared pieces
+
+
+def _compose(*rotations: Rotation) -> Rotation:
+    """The product r₁·r₂·…, each a single rotation or a stack of one common length.
+
+    Equal to chaining scipy's ``*``, done as one vectorised Hamilton product
+    per factor: scipy's operator costs ~0.4 µs per rotation, which dominated
+    a ten-minute walk at 200 Hz.
+    """
+    q = rotations[0].as_quat(scalar_first=True)
+    for r in rotations[1:]:
+        p = r.as_quat(scalar_first=True)
+        w1, x1, y1, z1 = np.moveaxis(q, -1, 0)
+        w2, x2, y2, z2 = np.moveaxis(p, -1, 0)
+        q = np.stack(
+            [
+                w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+                w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+                w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+                w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+            ],
+            axis=-1,
+        )
+    return Rotation.from_quat(q, scalar_first=True)
+
+
+def _about(axis: str, angle: float | NDArray[np.float64]) -> Rotation:
+    """Rotation(s) by ``angle`` rad about the x, y or z axis (one per angle)."""
+    unit = np.eye(3)["xyz".index(axis)]
+    return Rotation.from_rotvec(np.multiply.outer(angle, unit))
+
+
+def _body_frame(yaw: NDArray[np.float64]) -> Rotation:
+    """World←body rotations (body x forward, y left, z up) for yaw angles."""
+    return _about("z", yaw)
+
+
+def _from_axes(x: Sequence[float], y: Sequence[float], z: Sequence[float]) -> Rotation:
+    """The rotation whose columns are the phone's x, y, z axes in the body frame."""
+    return Rotation.from_matrix(np.column_stack([x, y, z]))
+
+
+def _lowpass(x: NDArray[np.float64], cutoff_hz: float, rate_hz: float) -> NDArray[np.float64]:
+    """Second-order Butterworth low-pass along axis 0, starting in its steady state."""
+    sos = butter(2, cutoff_hz, fs=rate_hz, output="sos")
+    zi = sosfilt_zi(sos)
+    x = np.asarray(x, dtype=float)
+    init = zi[..., None] * x[0] if x.ndim > 1 else zi * x[0]
+    return sosfilt(sos, x, axis=0, zi=init)[0]
+
+
+def _acceleration(pos: NDArray[np.float64], t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Second derivative of sampled positions along axis 0."""
+    return np.gradient(np.gradient(pos, t, axis=0), t, axis=0)
+
+
+def _to_body(vec: NDArray[np.float64], heading: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Horizontal vectors in the walking frame: (forward, left)."""
+    c, s = np.cos(heading), np.sin(heading)
+    return np.column_stack([c * vec[:, 0] + s * vec[:, 1], -s * vec[:, 0] + c * vec[:, 1]])
+
+
+def _tremor(n: int, rate_hz: float, rms: float, rng: np.random.Generator) -> NDArray[np.float64]:
+    """Physiological tremor on three axes: noise band-limited to 8–12 Hz with RMS ``rms``."""
+    sos = butter(2, [8.0, 12.0], btype="bandpass", fs=rate_hz, output="sos")
+    x = sosfilt(sos, rng.standard_normal((n, 3)), axis=0)
+    sd = x.std()
+    return x * (rms / sd) if sd > 0 else x
+
+
+def _slow_noise(n: int, rate_hz: float, rng: np.random.Generator) -> NDArray[np.float64]:
+    """Unit-RMS noise varying over about a second."""
+    x = gaussian_filter1d(rng.standard_normal(n), 0.5 * rate_hz)
+    sd = x.std()
+    return x / sd if sd > 0 else x
+
+
+def _side(which: str) -> float:
+    """+1 for the left side of the body (its +y), −1 for the right."""
+    return 1.0 if which == "left" else -1.0
+
+
+# ---------------------------------------------------------------------- modes
+
+
+@register_mode
+@dataclass(kw_only=True, frozen=True)
+class Handheld(CarryMode):
+    """Held in front of the chest, screen up, looked at (REALISM §6.1 texting row)."""
+
+    name: ClassVar[str] = "handheld"
+    pitch_deg: float = 30.0
+    """Screen tilt toward the eyes: 0 is flat and steady (Han2023's experiments),
+    20–45° is texting or browsing."""
+    misalignment_deg: float = 5.0
+    """SD of the phone's yaw relative to the walking direction, drawn per use
+    (≈ 0 ± 10°)."""
+    hand: Literal["right", "left"] = "right"
+    """Holding hand: the phone sits slightly to that side."""
+    tremor_deg: float = 0.03
+    """RMS of the hand's 8–12 Hz angular tremor [E]."""
+    tremor_mm: float = 0.015
+    """RMS of the hand's 8–12 Hz positional tremor (≈ 0.06 m/s² RMS) [E]."""
+    arm_cutoff_hz: float = 3.0
+    """The arm passes the trunk's vertical motion below this and damps heel strikes."""
+    bounce_gain: float = 0.8
+    """Fraction of the trunk's vertical bounce the phone follows."""
+    tilt_per_accel_deg: float = 0.3
+    """Pitch and roll of the hand per m/s² of (low-passed) trunk acceleration [E]."""
+    trunk_coupling: float = 0.5
+    """Fraction of the trunk's yaw oscillation the phone follows (the arms
+    steady the phone against the trunk's rotation)."""
+
+    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
+        h, rate = body.height_m, body.rate_hz
+        # In front of the chest, a little toward the holding hand.
+        offset = np.array([0.13 * h, 0.02 * _side(self.hand), (_CHEST_H - PELVIS_HEIGHT_RATIO) * h])
+        yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
+        frame = _body_frame(yaw)
+        pos = body.pos + frame.apply(offset)
+        rest = body.pelvis_height_m
+        pos[:, 2] = (
+            rest
+            + offset[2]
+            + self.bounce_gain * _lowpass(body.pos[:, 2] - rest, self.arm_cutoff_hz, rate)
+        )
+        acc = _lowpass(_acceleration(body.pos, body.t), self.arm_cutoff_hz, rate)
+        horiz = _to_body(acc, body.heading)
+        k = math.radians(self.tilt_per_accel_deg)
+        misalign = math.radians(rng.normal(0.0, self.misalignment_deg))
+        n = len(body.t)
+        pos += _tremor(n, rate, 1e-3 * self.tremor_mm, rng)
+        tremor = _tremor(n, rate, math.radians(self.tremor_deg), rng)
+        rot = _compose(
+            _body_frame(yaw + misalign),
+            _about("z", -np.pi / 2),
+            _about("x", math.radians(self.pitch_deg) + k * acc[:, 2]),
+            _about("y", -k * horiz[:, 1]),
+            Rotation.from_rotvec(tremor),
+        )
+        return ModePose(pos=pos, rot=rot, light_exposure=np.ones(len(body.t)))
+
+
+@register_mode
+@dataclass(kw_only=True, frozen=True)
+class Calling(CarryMode):
+    """Held at the ear during a call (REALISM §6.1 calling row, §3.5)."""
+
+    name: ClassVar[str] = "calling"
+    ear: Literal["right", "left"] = "right"
+    """The ear the phone is held to; its screen faces the head."""
+    tilt_deg: float | None = None
+    """Tilt of the long axis from vertical (top toward the back of the head);
+    None draws it uniformly from 30–60° per use."""
+    light_exposure_range: tuple[float, float] = (0.05, 0.2)
+    """Range of the head-shadow factor, drawn per use (5–20 % of the light)."""
+    head_cutoff_hz: float = 4.0
+    """The head follows the trunk's vertical motion below this, damping heel strikes."""
+    tilt_per_accel_deg: float = 0.2
+    """Nodding of head and hand per m/s² of (low-passed) trunk acceleration [E]."""
+    trunk_coupling: float = 0.3
+    """Fraction of the trunk's yaw oscillation the head follows (it is steadied)."""
+
+    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
+        h, rate, side = body.height_m, body.rate_hz, _side(self.ear)
+        yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
+        # The phone's centre: beside the head, a little ahead of and below the ear.
+        offset = np.array([0.05, 0.09 * side, (_EAR_H - 0.02 - PELVIS_HEIGHT_RATIO) * h])
+        pos = body.pos + _body_frame(yaw).apply(offset)
+        rest = body.pelvis_height_m
+        pos[:, 2] = rest + offset[2] + _lowpass(body.pos[:, 2] - rest, self.head_cutoff_hz, rate)
+        tilt = math.radians(self.tilt_deg if self.tilt_deg is not None else rng.uniform(30.0, 60.0))
+        # Top up and back, screen toward the head (−side), x = y × z ≈ ∓forward.
+        y = np.array([-math.sin(tilt), 0.0, math.cos(tilt)])
+        z = np.array([0.0, -side, 0.0])
+        acc = _lowpass(_acceleration(body.pos, body.t), self.head_cutoff_hz, rate)
+        k = math.radians(self.tilt_per_accel_deg)
+        rot = _compose(
+            _body_frame(yaw), _about("y", -k * acc[:, 2]), _from_axes(np.cross(y, z), y, z)
+        )
+        base = rng.uniform(*self.light_exposure_range)
+        light = base * np.exp(0.2 * _slow_noise(len(body.t), rate, rng))
+        return ModePose(pos=pos, rot=rot, light_exposure=light)
+
+
+@register_mode
+@dataclass(kw_only=True, frozen=True)
+class Dangling(CarryMode):
+    """In the hand of a swinging arm (REALISM §6.1 swinging row).
+
+    The arm is a rigid pendulum about the shoulder in the walking plane — a rod
+    of 3 kg with 0.6 kg of hand and phone at the grip — with muscle tone and
+    damping, simulated with pymunk at ``physics_rate_hz`` in the shoulder's
+    accelerating frame (gravity minus the shoulder's acceleration). A shoulder
+    torque drives it at stride frequency; the torque is the linearised
+    pendulum's inverse response to a swing of ``swing_deg``, so the swing is
+    close to that amplitude, in antiphase with the same-side leg, while
+    starting, stopping, bouncing and heel strikes perturb it as they would.
+    The phone is gripped with its top forward and its screen facing outward.
+    """
+
+    name: ClassVar[str] = "dangling"
+    hand: Literal["right", "left"] = "right"
+    """The hand holding the phone."""
+    swing_deg: float | None = None
+    """Swing amplitude about the shoulder; None draws it from 15–25° per use."""
+    grip_deg: float = 8.0
+    """SD of the grip's misalignment about each axis, drawn per use [E]."""
+    damping_ratio: float = 0.25
+    """Damping of the arm pendulum (it settles within a few swings after a stop) [E]."""
+    tone_nm_per_rad: float = 5.0
+    """Shoulder muscle stiffness, raising the arm's natural frequency to ≈ 0.8 Hz [E]."""
+    physics_rate_hz: float = 30.0
+    """Step rate of the pymunk pendulum (upsampled with a C² spline)."""
+
+    _ROD_KG: ClassVar[float] = 3.0
+    _HAND_KG: ClassVar[float] = 0.6
+
+    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
+        h, side = body.height_m, _side(self.hand)
+        length = _ARM_LENGTH * h
+        frame = _body_frame(body.yaw)
+        shoulder = body.pos + frame.apply(
+            [0.0, _SHOULDER_HALF_WIDTH * h * side, (_SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
+        )
+        swing = math.radians(self.swing_deg if self.swing_deg is not None else rng.uniform(15, 25))
+        theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)
+        arm = length * np.column_stack([np.sin(theta), np.zeros_like(theta), -np.cos(theta)])
+        pos = shoulder + frame.apply(arm)
+        # At the bottom of the swing: x down (right hand) or up (left), y
+        # forward, z outward.
+        base = _from_axes([0.0, 0.0, side], [1.0, 0.0, 0.0], [0.0, side, 0.0])
+        grip = Rotation.from_rotvec(np.radians(rng.normal(0.0, self.grip_deg, 3)))
+        rot = _compose(frame, _about("y", -theta), base, grip)
+        return ModePose(pos=pos, rot=rot, light_exposure=np.ones(len(body.t)))
+
+    def _simulate(
+        self,
+        body: BodyTrajectory,
+        shoulder: NDArray[np.float64],
+        length: float,
+        amplitude: NDArray[np.float64],
+        side: float,
+    ) -> NDArray[np.float64]:
+        """Swing angle (rad, + forward) at the body's samples."""
+        m_rod, m_hand = self._ROD_KG, self._HAND_KG
+        mass = m_rod + m_hand
+        com = (m_rod * length / 2 + m_hand * length) / mass
+        inertia = m_rod * length**2 / 3 + m_hand * length**2  # about the shoulder
+        stiffness = mass * _G * com + self.tone_nm_per_rad
+        damping = 2.0 * self.damping_ratio * math.sqrt(stiffness * inertia)
+
+        # Drive: θ_d = A·cos(2π·stride phase) (the right arm is forward at the
+        # left heel strike) through the inverse of I·θ̈ + c·θ̇ + k·θ = τ.
+        t = body.t
+        stride = body.step_phase / 2.0
+        omega = 2.0 * np.pi * np.gradient(stride, t)
+        cyc = 2.0 * np.pi * (body.stride_phase + (0.0 if side < 0 else 0.5))
+        torque = amplitude * (
+            (stiffness - inertia * omega**2) * np.cos(cyc) - damping * omega * np.sin(cyc)
+        )
+        acc = _acceleration(shoulder, t)
+        fwd = _to_body(acc[:, :2], body.yaw)[:, 0]
+
+        dt = 1.0 / self.physics_rate_hz
+        t_phys = t[0] + np.arange(math.ceil((t[-1] - t[0]) / dt) + 1) * dt
+        # The shoulder's acceleration, averaged over a physics step so that
+        # heel-strike spikes are not aliased.
+        win = max(1, round(body.rate_hz * dt))
+        smooth = [np.convolve(x, np.ones(win) / win, mode="same") for x in (fwd, acc[:, 2])]
+        gx = -np.interp(t_phys, t, smooth[0])
+        gy = -_G - np.interp(t_phys, t, smooth[1])
+        tau = np.interp(t_phys, t, torque)
+
+        space = pymunk.Space()
+        arm = pymunk.Body(mass, inertia - mass * com**2)
+        arm.center_of_gravity = (0.0, -com)
+        space.add(arm)
+        space.add(pymunk.PivotJoint(space.static_body, arm, (0.0, 0.0), (0.0, 0.0)))
+        space.add(
+            pymunk.DampedRotarySpring(space.static_body, arm, 0.0, self.tone_nm_per_rad, damping)
+        )
+        angle = np.empty(len(t_phys))
+        angle[0] = 0.0
+        step = space.step
+        for k, (ax, ay, tk) in enumerate(zip(gx.tolist(), gy.tolist(), tau.tolist(), strict=True)):
+            if k:
+                angle[k] = arm.angle
+            space.gravity = (ax, ay)
+            arm.torque = tk
+            step(dt)
+        return CubicSpline(t_phys, angle)(t)
+
+
+@register_mode
+@dataclass(kw_only=True, frozen=True)
+class Pocketed(CarryMode):
+    """In a front trouser pocket (REALISM §6.1 pocket row, §5 hip angles)."""
+
+    name: ClassVar[str] = "pocketed"
+    side: Literal["right", "left"] = "right"
+    """The pocket's side."""
+    thigh_swing_deg: float | None = None
+    """Amplitude of the thigh's pitch at stride frequency; None draws it from
+    18–23° per use (hip range 35–45° peak to peak)."""
+    thigh_mean_deg: float = 5.0
+    """Mean thigh flexion while walking (20–30° flexion at heel contact,
+    10–20° extension late in stance)."""
+    top_down: bool | None = None
+    """Phone inserted top first; None draws it per use."""
+    screen_out: bool | None = None
+    """Screen facing away from the thigh; None draws it per use."""
+    pocket_yaw_deg: float | None = None
+    """Rotation of the phone about the thigh's axis in the pocket; None draws
+    it from ±20° per use [E]."""
+    impact_mps2: tuple[float, float] = (2.0, 4.0)
+    """Range of the extra jolt along the thigh at the same-side heel strike [E]."""
+    light_exposure_range: tuple[float, float] = (0.001, 0.005)
+    """Range of the fabric's light transmission, drawn per use."""
+
+    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
+        h, side = body.height_m, _side(self.side)
+        # The pelvis counter-rotates against the trunk at stride frequency.
+        pelvis = _body_frame(2.0 * body.heading - body.yaw)
+        env = body.gait_envelope
+        swing = math.radians(
+            self.thigh_swing_deg if self.thigh_swing_deg is not None else rng.uniform(18, 23)
+        )
+        # The thigh is most flexed just before its own heel strike (stride
+        # phase 0.5 for the right leg, 0 for the left).
+        cyc = 2.0 * np.pi * (body.stride_phase - (0.45 if side < 0 else -0.05))
+        alpha = env * (math.radians(self.thigh_mean_deg) + swing * np.cos(cyc))
+        roll = env * math.radians(_HIP_ROLL_DEG) * np.sin(cyc) * side
+        thigh = np.column_stack([np.sin(alpha), np.zeros_like(alpha), -np.cos(alpha)])
+        front = np.column_stack([np.cos(alpha), np.zeros_like(alpha), np.sin(alpha)])
+        hip = np.array([0.0, _HIP_HALF_WIDTH * h * side, (_HIP_H - PELVIS_HEIGHT_RATIO) * h])
+        local = hip + _POCKET_ALONG_M * thigh + _POCKET_FRONT_M * front
+        steps = body.steps[body.steps.foot == ("R" if side < 0 else "L")]
+        jolt = impulse_displacement(
+            body.t, steps.t.to_numpy(), rng.uniform(*self.impact_mps2, len(steps))
+        )
+        local -= jolt[:, None] * thigh  # the jolt drives the phone up along the thigh
+        pos = body.pos + pelvis.apply(local)
+
+        top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)
+        screen_out = self.screen_out if self.screen_out is not None else bool(rng.random() < 0.5)
+        pocket_yaw = math.radians(
+            self.pocket_yaw_deg if self.pocket_yaw_deg is not None else rng.uniform(-20, 20)
+        )
+        # Standing, top down, screen out: x right, y down, z forward.
+        base = _from_axes([0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0])
+        placement = _compose(
+            _about("y", pocket_yaw),
+            _about("y", 0.0 if screen_out else np.pi),
+            _about("z", 0.0 if top_down else np.pi),
+        )
+        rot = _compose(pelvis, _about("x", roll), _about("y", -alpha), base, placement)
+        light = np.full(len(body.t), rng.uniform(*self.light_exposure_range))
+        return ModePose(pos=pos, rot=rot, light_exposure=light)

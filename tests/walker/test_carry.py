@@ -1,0 +1,315 @@
+"""Carrying modes: phone poses are inside the building, continuous, and typical of their mode."""
+
+from __future__ import annotations
+
+import dataclasses
+from importlib.metadata import EntryPoint
+from typing import ClassVar
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+import indoorsim.walker.carry as carry_module
+from indoorsim.scenario import RouteSpec
+from indoorsim.walker.carry import (
+    ENTRY_POINT_GROUP,
+    MODES,
+    CarryMode,
+    Handheld,
+    ModePose,
+    PhoneTrajectory,
+    available_modes,
+    carry,
+    get_mode,
+    register_mode,
+)
+from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
+from indoorsim.walker.route import plan_route
+from indoorsim.world.plan import FloorPlan
+
+BUILT_IN = ("handheld", "calling", "dangling", "pocketed")
+MIXED = [(0.0, "handheld"), (8.0, "pocketed"), (14.0, "dangling"), (20.0, "calling")]
+
+
+@dataclasses.dataclass(kw_only=True, frozen=True)
+class StrappedMode(CarryMode):
+    """A test plugin: the phone strapped flat to the pelvis, top forward."""
+
+    name: ClassVar[str] = "strapped"
+
+    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
+        rot = Rotation.from_rotvec(np.outer(body.heading - np.pi / 2, [0.0, 0.0, 1.0]))
+        return ModePose(pos=body.pos.copy(), rot=rot, light_exposure=np.ones(len(body.t)))
+
+
+def _rot(phone: PhoneTrajectory) -> Rotation:
+    return Rotation.from_quat(phone.quat, scalar_first=True)
+
+
+def _rates_dps(phone: PhoneTrajectory) -> np.ndarray:
+    """Angular rate between consecutive samples, °/s."""
+    r = _rot(phone)
+    return np.degrees((r[:-1].inv() * r[1:]).magnitude()) / np.diff(phone.t)
+
+
+def _steady(body: BodyTrajectory) -> np.ndarray:
+    """Samples of steady walking: between the fourth heel strike and the fifth from last."""
+    strikes = body.steps["t"].to_numpy()
+    return (body.t > strikes[4]) & (body.t < strikes[-5])
+
+
+def _forward(body: BodyTrajectory) -> np.ndarray:
+    return np.column_stack([np.cos(body.heading), np.sin(body.heading), np.zeros(len(body.t))])
+
+
+@pytest.fixture(scope="module")
+def straight_phones(straight_body) -> dict[str, PhoneTrajectory]:
+    return {m: carry(straight_body, m, np.random.default_rng(3)) for m in BUILT_IN}
+
+
+# ---------------------------------------------------------------------- registry
+
+
+def test_built_in_modes_are_registered():
+    assert set(BUILT_IN) <= set(MODES)
+    assert set(BUILT_IN) <= set(available_modes())
+    assert get_mode("handheld") is Handheld
+    with pytest.raises(KeyError) as err:
+        get_mode("backpack")
+    for name in BUILT_IN:
+        assert name in str(err.value)
+
+
+def test_register_mode_refuses_clashes_and_non_modes():
+    with pytest.raises(TypeError):
+        register_mode(dict)  # type: ignore[arg-type]
+
+    @dataclasses.dataclass(kw_only=True, frozen=True)
+    class Impostor(StrappedMode):
+        name: ClassVar[str] = "handheld"
+
+    with pytest.raises(ValueError, match="already registered"):
+        register_mode(Impostor)
+
+
+def test_a_plugin_mode_loads_from_its_entry_point(monkeypatch, straight_body):
+    ep = EntryPoint(
+        name="strapped", value="tests.walker.test_carry:StrappedMode", group=ENTRY_POINT_GROUP
+    )
+    monkeypatch.setattr(carry_module, "MODES", dict(MODES))
+    monkeypatch.setattr(
+        carry_module, "entry_points", lambda group: [ep] if group == ENTRY_POINT_GROUP else []
+    )
+    assert "strapped" in available_modes()
+    assert get_mode("strapped") is StrappedMode
+    phone = carry(straight_body, "strapped", np.random.default_rng(0))
+    assert set(phone.mode) == {"strapped"}
+    np.testing.assert_allclose(phone.pos, straight_body.pos)
+
+
+def test_an_entry_point_that_is_not_a_mode_is_refused(monkeypatch):
+    ep = EntryPoint(name="bogus", value="indoorsim.walker.gait:walk", group=ENTRY_POINT_GROUP)
+    monkeypatch.setattr(carry_module, "MODES", dict(MODES))
+    monkeypatch.setattr(carry_module, "entry_points", lambda group: [ep])
+    with pytest.raises(TypeError, match="bogus"):
+        get_mode("bogus")
+
+
+# ---------------------------------------------------------------------- invariants
+
+
+@pytest.mark.parametrize("schedule", [*BUILT_IN, MIXED], ids=[*BUILT_IN, "mixed"])
+def test_phone_stays_inside_and_its_pose_is_continuous(l_plan, l_body, schedule):
+    phone = carry(l_body, schedule, np.random.default_rng(5))
+    np.testing.assert_array_equal(phone.t, l_body.t)
+    assert l_plan.is_walkable(phone.pos).all()
+    assert not l_plan.crosses_wall(phone.pos[:-1], phone.pos[1:]).any()
+    np.testing.assert_allclose(np.linalg.norm(phone.quat, axis=1), 1.0, atol=1e-12)
+    assert phone.quat[0, 0] >= 0
+    assert (np.einsum("ij,ij->i", phone.quat[1:], phone.quat[:-1]) > 0).all()
+    rates = _rates_dps(phone)
+    assert np.isfinite(rates).all() and rates.max() < 500.0
+    # No jumps: the phone moves less than 1.5 cm and turns less than 2.5° per sample.
+    assert np.linalg.norm(np.diff(phone.pos, axis=0), axis=1).max() < 0.015
+    assert rates.max() / l_body.rate_hz < 2.5
+    acc = np.diff(phone.pos, 2, axis=0) * l_body.rate_hz**2
+    assert np.linalg.norm(acc, axis=1).max() < 3 * 9.81
+    assert ((phone.light_exposure >= 0) & (phone.light_exposure <= 1)).all()
+
+
+def test_phone_stays_inside_on_generated_office_routes():
+    generate = pytest.importorskip("indoorsim.world.generate")
+    scenario = generate.generate("office", seed=5)
+    plan = FloorPlan(scenario)
+    for i, (name, spec) in enumerate(scenario.routes.items()):
+        body = walk(plan, plan_route(plan, spec, name), WalkerParams(), np.random.default_rng(i))
+        step = body.t[-1] / 5
+        schedule = [(k * step, m) for k, m in enumerate([*BUILT_IN, "handheld"])]
+        for sched in (*BUILT_IN, schedule):
+            phone = carry(body, sched, np.random.default_rng(i))
+            assert plan.is_walkable(phone.pos).all()
+            assert not plan.crosses_wall(phone.pos[:-1], phone.pos[1:]).any()
+
+
+def test_light_exposure_by_mode(straight_phones):
+    """REALISM §3.5: full in the hand, head-shadowed at the ear, dark in a pocket."""
+    assert (straight_phones["handheld"].light_exposure == 1).all()
+    assert (straight_phones["dangling"].light_exposure == 1).all()
+    assert 0.03 <= np.median(straight_phones["calling"].light_exposure) <= 0.25
+    assert 0.001 <= np.median(straight_phones["pocketed"].light_exposure) <= 0.005
+
+
+def test_swinging_and_pocket_turn_far_faster_than_a_held_phone(straight_body, straight_phones):
+    steady = _steady(straight_body)[1:]
+    rms = {m: np.sqrt(np.mean(_rates_dps(p)[steady] ** 2)) for m, p in straight_phones.items()}
+    assert rms["dangling"] > 3 * rms["handheld"]
+    assert rms["pocketed"] > 3 * rms["handheld"]
+    assert rms["calling"] < rms["dangling"]
+
+
+def test_motion_is_smooth_enough_to_differentiate_twice(l_plan, room_to_corridor_end):
+    """Without heel-strike jolts, acceleration changes little from one 200 Hz sample to the next.
+
+    A kink in a position (a jump in velocity) would show as a jump of its
+    second difference of hundreds of m/s²; a C² track keeps it to a fraction
+    of one.
+    """
+    params = WalkerParams(heel_strike_mps2=(0.0, 0.0), stop_rate_per_min=3.0)
+    body = walk(l_plan, room_to_corridor_end, params, np.random.default_rng(1))
+    rate = body.rate_hz
+
+    def jerk_step(pos: np.ndarray) -> float:
+        return float(np.abs(np.diff(pos, 3, axis=0)).max() * rate**2)
+
+    assert jerk_step(body.pos) < 0.5
+    schedules = [
+        *BUILT_IN[:3],
+        [(0.0, "pocketed", {"impact_mps2": (0.0, 0.0)})],
+        [(0.0, "handheld"), (6.0, "calling"), (10.0, "dangling"), (15.0, "handheld")],
+    ]
+    for schedule in schedules:
+        phone = carry(body, schedule, np.random.default_rng(2))
+        assert jerk_step(phone.pos) < 0.6
+        r = _rot(phone)
+        omega = (r[:-1].inv() * r[1:]).as_rotvec() * rate
+        assert np.abs(np.diff(omega, axis=0)).max() * rate < 30.0  # rad/s², an arm's swing
+
+
+# ---------------------------------------------------------------------- geometry
+
+
+def test_flat_handheld_phone_faces_up_with_its_top_forward(straight_body):
+    phone = carry(straight_body, [(0.0, "handheld", {"pitch_deg": 0.0})], np.random.default_rng(1))
+    z = _rot(phone).apply([0.0, 0.0, 1.0])
+    assert np.degrees(np.arccos(z[:, 2])).max() < 3.0
+    y = _rot(phone).apply([0.0, 1.0, 0.0])
+    off = np.degrees(np.arccos(np.einsum("ij,ij->i", y, _forward(straight_body))))
+    assert off.max() < 25.0  # misalignment is a few degrees (SD 5°)
+
+
+def test_texting_pitches_the_screen_toward_the_eyes(straight_body, straight_phones):
+    y = _rot(straight_phones["handheld"]).apply([0.0, 1.0, 0.0])
+    elevation = np.degrees(np.arcsin(y[:, 2]))
+    assert np.median(elevation) == pytest.approx(Handheld().pitch_deg, abs=2.0)
+
+
+def test_flat_phone_facing_north_has_the_identity_quaternion(l_plan):
+    route = plan_route(l_plan, RouteSpec(waypoints=[(11.0, 2.5), (11.0, 9.0)]))
+    body = walk(l_plan, route, WalkerParams(), np.random.default_rng(0))
+    params = {"pitch_deg": 0.0, "misalignment_deg": 0.0, "tremor_deg": 0.0}
+    phone = carry(body, [(0.0, "handheld", params)], np.random.default_rng(0))
+    np.testing.assert_allclose(phone.quat[0], [1.0, 0.0, 0.0, 0.0], atol=1e-9)
+
+
+def test_calling_holds_the_long_axis_near_vertical(straight_body, straight_phones):
+    rot = _rot(straight_phones["calling"])
+    steady = _steady(straight_body)
+    x, y, z = (rot.apply(v)[steady] for v in np.eye(3))
+    tilt = np.degrees(np.arccos(y[:, 2]))
+    assert 27.0 <= tilt.min() and tilt.max() <= 63.0
+    assert np.degrees(np.abs(np.arcsin(z[:, 2]))).max() < 10.0  # screen faces the head
+    along = np.abs(np.einsum("ij,ij->i", x, _forward(straight_body)[steady]))
+    assert along.min() > 0.4  # x is ±forward (tilted with the long axis)
+
+
+def test_pocketed_phone_pitches_with_the_thigh(straight_body):
+    params = {"top_down": True, "screen_out": True, "pocket_yaw_deg": 0.0}
+    phone = carry(straight_body, [(0.0, "pocketed", params)], np.random.default_rng(2))
+    steady = _steady(straight_body)
+    y = _rot(phone).apply([0.0, 1.0, 0.0])[steady]
+    forward = np.einsum("ij,ij->i", y, _forward(straight_body)[steady])
+    pitch = np.degrees(np.arctan2(forward, -y[:, 2]))
+    assert 16.0 <= np.ptp(pitch) / 2 <= 25.0  # thigh swing ±18–23°
+    # One swing per stride: the pitch crosses its mean twice per stride.
+    crossings = np.count_nonzero(np.diff(np.sign(pitch - pitch.mean())))
+    strides = np.ptp(straight_body.step_phase[steady]) / 2
+    assert crossings == pytest.approx(2 * strides, abs=2)
+
+
+def test_dangling_arm_swings_like_a_pendulum(straight_body):
+    phone = carry(straight_body, [(0.0, "dangling", {"grip_deg": 0.0})], np.random.default_rng(4))
+    steady = _steady(straight_body)
+    y = _rot(phone).apply([0.0, 1.0, 0.0])[steady]
+    swing = np.degrees(np.arcsin(y[:, 2]))
+    assert 13.0 <= np.ptp(swing) / 2 <= 27.0  # ±15–25° about the shoulder
+    peak = np.percentile(_rates_dps(phone)[steady[1:]], 99)
+    assert 80.0 <= peak <= 200.0  # peak rates 90–160 °/s
+    # The swing's dominant frequency is the stride frequency.
+    spectrum = np.abs(np.fft.rfft(swing - swing.mean()))
+    freq = np.fft.rfftfreq(len(swing), 1 / straight_body.rate_hz)
+    stride_hz = 0.5 / np.diff(straight_body.steps["t"].to_numpy()).mean()
+    assert freq[np.argmax(spectrum)] == pytest.approx(stride_hz, rel=0.1)
+
+
+# ---------------------------------------------------------------------- schedules
+
+
+def test_transitions_blend_and_relabel(straight_body):
+    phone = carry(straight_body, MIXED, np.random.default_rng(6), transition_s=2.0)
+    t = phone.t
+    assert phone.mode[t < 8.9][-1] == "handheld"
+    assert phone.mode[t > 9.1][0] == "pocketed"
+    assert phone.mode[t > 22.0][0] == "calling"
+    assert list(dict.fromkeys(phone.mode)) == ["handheld", "pocketed", "dangling", "calling"]
+    # The light exposure moves gradually from full to pocket-dark.
+    light = phone.light_exposure[(t >= 8.0) & (t <= 10.0)]
+    assert light[0] == 1.0 and light[-1] < 0.01 and np.all(np.diff(light) <= 1e-12)
+    # While changing mode the phone moves and turns no faster than within a mode.
+    step = np.linalg.norm(np.diff(phone.pos, axis=0), axis=1)
+    turn = _rates_dps(phone) / straight_body.rate_hz
+    blending = np.zeros(len(step), dtype=bool)
+    for start, _ in MIXED[1:]:
+        blending |= (t[1:] >= start) & (t[1:] <= start + 2.0)
+    assert step[blending].max() <= 1.5 * step[~blending].max()
+    assert turn[blending].max() <= 1.5 * turn[~blending].max()
+
+
+def test_transition_time_is_checked(straight_body):
+    with pytest.raises(ValueError, match="transition_s"):
+        carry(straight_body, "handheld", np.random.default_rng(0), transition_s=0.0)
+
+
+@pytest.mark.parametrize(
+    ("schedule", "error", "match"),
+    [
+        ([(2.0, "handheld")], ValueError, "must start at 0"),
+        ([(0.0, "handheld"), (1.0, "calling")], ValueError, "transition"),
+        ([(0.0, "handheld"), (1e4, "calling")], ValueError, "after the walk ends"),
+        ([(0.0, "handheld", {"pich_deg": 10})], ValueError, "pitch_deg"),
+        ([(0.0, "backpack")], KeyError, "handheld"),
+        ([], ValueError, "empty"),
+        ([("handheld",)], ValueError, "expected"),
+    ],
+)
+def test_bad_schedules_are_explained(straight_body, schedule, error, match):
+    with pytest.raises(error, match=match):
+        carry(straight_body, schedule, np.random.default_rng(0))
+
+
+def test_same_seed_same_phone(l_body):
+    a, b = (carry(l_body, MIXED, np.random.default_rng(8)) for _ in range(2))
+    for field in ("pos", "quat", "light_exposure", "mode"):
+        np.testing.assert_array_equal(getattr(a, field), getattr(b, field))
+    c = carry(l_body, MIXED, np.random.default_rng(9))
+    assert not np.array_equal(a.quat, c.quat)
