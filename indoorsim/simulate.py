@@ -1,0 +1,305 @@
+"""Simulate one walk: route → gait → carrying mode → phone sensors → :class:`Recording`.
+
+The data flow of DESIGN §3::
+
+    route + walker params ─► gait (body pose, step events) ─► carry mode (phone pose)
+    phone pose + Site fields + device profile + rng ─► Recording (streams + truth)
+
+Every sensor samples the world at its own timestamps (the device's clock, with
+jitter): the accelerometer and gyroscope read the ideal specific force and
+body rate of the phone's true trajectory, the magnetometer the site's field at
+the phone rotated into the phone frame, the light sensor the illuminance on
+the screen's normal (shadowed by head or pocket), WiFi scans the mean RSS at
+the phone. Each then passes through the device's error model, and the fused
+sensors are computed from the *noisy* raw streams by the phone's attitude
+filter.
+
+Randomness: one :class:`numpy.random.SeedSequence` per run; each sub-model
+draws from its own child stream, keyed by name, so the same seed gives the same
+bytes and changing one model's draws leaves the others untouched.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from indoorsim.phone.devices import DeviceProfile, get_device
+from indoorsim.phone.fused import fuse
+from indoorsim.phone.kinematics import IdealImu, normal_gravity
+from indoorsim.phone.sensors import (
+    apply_inertial,
+    apply_magnetometer,
+    light_events,
+    sample_times,
+    scan_rss,
+    wifi_scans,
+)
+from indoorsim.recording import Recording
+from indoorsim.scenario import RouteSpec
+from indoorsim.walker.carry import PhoneTrajectory, carry
+from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
+from indoorsim.walker.route import Route, plan_route
+from indoorsim.world.magnetic import earth_field_enu
+from indoorsim.world.site import Site
+
+# Child streams of a run's SeedSequence, by name. Append new names at the end:
+# the position of a name fixes its stream.
+_STREAMS = (
+    "walker",
+    "carry",
+    "imu_clock",
+    "accel",
+    "gyro",
+    "mag_clock",
+    "mag",
+    "light",
+    "wifi_times",
+    "wifi",
+    "gyro_clock",
+)
+
+ModeSchedule = str | Sequence[tuple]
+
+
+def run_streams(seed: int) -> dict[str, np.random.Generator]:
+    """The named random streams of one run."""
+    return {
+        name: np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(i,)))
+        for i, name in enumerate(_STREAMS)
+    }
+
+
+@dataclass(frozen=True, kw_only=True)
+class PhoneSamples:
+    """Raw sensor samples of one walk, before they become a Recording."""
+
+    t_accel: NDArray[np.float64]
+    accel: NDArray[np.float64]
+    t_gyro: NDArray[np.float64]
+    gyro: NDArray[np.float64]
+    t_mag: NDArray[np.float64]
+    mag: NDArray[np.float64]
+    t_light: NDArray[np.float64]
+    lux: NDArray[np.float64]
+    wifi: pd.DataFrame
+
+
+def resolve_route(site: Site, route: str | RouteSpec | Route) -> Route:
+    """A walkable :class:`Route` from a route name of the scenario, a spec, or a route."""
+    if isinstance(route, Route):
+        return route
+    if isinstance(route, str):
+        routes = site.scenario.routes
+        if route not in routes:
+            raise KeyError(
+                f"scenario {site.name!r} has no route {route!r}; "
+                f"routes are {sorted(routes) or 'none'}"
+            )
+        return plan_route(site.plan, routes[route], name=route)
+    return plan_route(site.plan, route, name="custom")
+
+
+def simulate(
+    site: Site,
+    *,
+    route: str | RouteSpec | Route,
+    mode: ModeSchedule = "handheld",
+    device: str | DeviceProfile = "ideal",
+    seed: int = 0,
+    walker: WalkerParams | None = None,
+    truth_rate_hz: float = 200.0,
+    light_sample_hz: float = 50.0,
+) -> Recording:
+    """Walk ``route`` through ``site`` carrying a ``device`` in ``mode`` and record it.
+
+    Args:
+        site: the building.
+        route: a route name of the scenario, a :class:`RouteSpec` or a planned :class:`Route`.
+        mode: a carrying-mode name, or a schedule ``[(t_start, mode_name[, params]), ...]``.
+        device: a device-profile name or profile.
+        seed: the run's seed (walker, carrying mode and every sensor draw from it).
+        walker: pedestrian parameters (defaults: an average adult).
+        truth_rate_hz: rate of the truth stream (≥ 200 Hz).
+        light_sample_hz: rate at which illuminance is evaluated for the light
+            sensor's integration.
+
+    Returns:
+        The recording: raw, fused and truth streams plus metadata.
+    """
+    if truth_rate_hz < 200:
+        raise ValueError(f"truth_rate_hz must be ≥ 200 Hz, got {truth_rate_hz}")
+    profile = get_device(device) if isinstance(device, str) else device
+    rngs = run_streams(seed)
+    planned = resolve_route(site, route)
+    params = walker or WalkerParams()
+    body = walk(site.plan, planned, params, rngs["walker"], rate_hz=truth_rate_hz)
+    phone = carry(body, mode, rngs["carry"])
+    samples = sample_sensors(site, phone, profile, rngs, light_sample_hz=light_sample_hz)
+    return _recording(site, planned, body, phone, samples, profile, seed, mode, params)
+
+
+def sample_sensors(
+    site: Site,
+    phone: PhoneTrajectory,
+    device: DeviceProfile,
+    rngs: dict[str, np.random.Generator],
+    *,
+    light_sample_hz: float = 50.0,
+) -> PhoneSamples:
+    """Every sensor of ``device`` along the phone's true trajectory (see the module docstring)."""
+    g = normal_gravity(site.scenario.site.latitude)
+    imu = IdealImu(phone.t, phone.pos, phone.quat, gravity_mps2=g)
+    t0, duration = float(phone.t[0]), float(phone.t[-1] - phone.t[0])
+    jitter, gaps = device.timestamp_jitter_frac, device.gap_probability
+
+    def clock(rate_hz: float, stream: str) -> NDArray[np.float64]:
+        t = sample_times(duration, rate_hz, jitter, rngs[stream], start=t0, gap_probability=gaps)
+        return t[t <= phone.t[-1]]
+
+    t_accel = clock(device.accel.rate_hz, "imu_clock")
+    # Accelerometer and gyroscope share one IMU clock when they run at one rate.
+    same_clock = device.gyro.rate_hz == device.accel.rate_hz
+    t_gyro = t_accel if same_clock else clock(device.gyro.rate_hz, "gyro_clock")
+    accel = apply_inertial(imu.specific_force(t_accel), t_accel, device.accel, rngs["accel"])
+    gyro = apply_inertial(imu.angular_rate(t_gyro), t_gyro, device.gyro, rngs["gyro"])
+
+    t_mag = clock(device.mag.rate_hz, "mag_clock")
+    field_w = site.magnetic_field(imu.position(t_mag))
+    mag = apply_magnetometer(imu.to_phone_frame(t_mag, field_w), t_mag, device.mag, rngs["mag"])
+
+    t_fine = np.arange(t0, phone.t[-1], 1.0 / light_sample_hz)
+    normals = imu.attitude(t_fine).apply([0.0, 0.0, 1.0])  # the screen's outward normal
+    exposure = np.interp(t_fine, phone.t, phone.light_exposure)
+    lux_fine = site.illuminance(imu.position(t_fine), normals) * exposure
+    t_light, lux = light_events(t_fine, lux_fine, device.light, rngs["light"])
+
+    t_scan = wifi_scans(duration, device.wifi, rngs["wifi_times"], start=t0)
+    t_scan = t_scan[t_scan <= phone.t[-1]]
+    # A scan sweeps the channels over its duration: take the phone where it was mid-scan.
+    t_mid = np.clip(t_scan - device.wifi.scan_duration_s / 2, t0, phone.t[-1])
+    rss_mean = (
+        site.rss(imu.position(t_mid)) if len(t_scan) else np.zeros((0, len(site.radio.bssids)))
+    )
+    wifi = scan_rss(t_scan, rss_mean, site.radio.bssids, device.wifi, rngs["wifi"])
+    return PhoneSamples(
+        t_accel=t_accel,
+        accel=accel,
+        t_gyro=t_gyro,
+        gyro=gyro,
+        t_mag=t_mag,
+        mag=mag,
+        t_light=t_light,
+        lux=lux,
+        wifi=wifi,
+    )
+
+
+def _frame(t: NDArray[np.float64], columns: dict[str, NDArray]) -> pd.DataFrame:
+    return pd.DataFrame(columns, index=pd.Index(np.asarray(t, dtype=float), name="t"))
+
+
+def _xyz(t: NDArray[np.float64], v: NDArray[np.float64]) -> pd.DataFrame:
+    return _frame(t, {"x": v[:, 0], "y": v[:, 1], "z": v[:, 2]})
+
+
+def _quat(t: NDArray[np.float64], q: NDArray[np.float64]) -> pd.DataFrame:
+    return _frame(t, {"qw": q[:, 0], "qx": q[:, 1], "qy": q[:, 2], "qz": q[:, 3]})
+
+
+def _recording(
+    site: Site,
+    route: Route,
+    body: BodyTrajectory,
+    phone: PhoneTrajectory,
+    s: PhoneSamples,
+    device: DeviceProfile,
+    seed: int,
+    mode: ModeSchedule,
+    walker: WalkerParams,
+) -> Recording:
+    g = normal_gravity(site.scenario.site.latitude)
+    fused = fuse(s.t_accel, s.accel, s.t_gyro, s.gyro, s.t_mag, s.mag, gravity_mps2=g)
+    heading = np.angle(np.exp(1j * body.heading))  # wrapped to (−π, π]
+    truth = _frame(
+        phone.t,
+        {
+            "x": phone.pos[:, 0],
+            "y": phone.pos[:, 1],
+            "z": phone.pos[:, 2],
+            "qw": phone.quat[:, 0],
+            "qx": phone.quat[:, 1],
+            "qy": phone.quat[:, 2],
+            "qz": phone.quat[:, 3],
+            "body_x": body.pos[:, 0],
+            "body_y": body.pos[:, 1],
+            "heading": heading,
+            "mode": np.asarray(phone.mode, dtype=object),
+        },
+    )
+    steps = body.steps.set_index("t") if "t" in body.steps.columns else body.steps
+    steps.index = steps.index.astype(float).rename("t")
+    wifi = s.wifi.set_index("t") if "t" in s.wifi.columns else s.wifi
+    wifi.index = wifi.index.astype(float).rename("t")
+    streams = {
+        "accel": _xyz(s.t_accel, s.accel),
+        "gyro": _xyz(s.t_gyro, s.gyro),
+        "mag": _xyz(s.t_mag, s.mag),
+        "light": _frame(s.t_light, {"lux": s.lux}),
+        "wifi": wifi,
+        "rotation": _quat(fused.t_rotation, fused.rotation),
+        "game_rotation": _quat(fused.t_rotation, fused.game_rotation),
+        "gravity": _xyz(fused.t_gravity, fused.gravity),
+        "linear_accel": _xyz(fused.t_gravity, fused.linear_accel),
+        "truth": truth,
+        "steps": steps,
+    }
+    sc = site.scenario.site
+    declination = np.degrees(
+        np.arctan2(*earth_field_enu(sc.latitude, sc.longitude, sc.altitude_km, sc.date)[:2])
+    )
+    meta = {
+        "scenario": site.name,
+        "seed": int(seed),
+        "device": device.name,
+        "mode": mode if isinstance(mode, str) else [list(map(_jsonable, m)) for m in mode],
+        "route": {
+            "name": route.name,
+            "points": np.asarray(route.points).tolist(),
+            "speed": route.speed,
+        },
+        "walker": {k: _jsonable(v) for k, v in asdict(walker).items()},
+        "rates_hz": {
+            "accel": device.accel.rate_hz,
+            "gyro": device.gyro.rate_hz,
+            "mag": device.mag.rate_hz,
+            "truth": float(1.0 / np.median(np.diff(phone.t))),
+        },
+        "frame": {
+            "world": "building frame: x along the building's +x, y along its +y, z up, metres",
+            "phone": "Android sensor frame: x right, y up the screen, z out of the screen",
+            "quaternion": "world<-phone, scalar first (w, x, y, z)",
+            "rotation_world": "Android rotation vector: x magnetic east, y magnetic north, z up",
+            "building_north_deg": sc.north_deg,
+            "magnetic_declination_deg": float(declination),
+        },
+        "gravity_mps2": g,
+        "package": "indoorsim",
+        "version": importlib.metadata.version("indoorsim"),
+    }
+    return Recording(streams=streams, meta=meta)
+
+
+def _jsonable(v: object) -> object:
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, tuple):
+        return [_jsonable(x) for x in v]
+    if isinstance(v, dict):
+        return {str(k): _jsonable(x) for k, x in v.items()}
+    return v

@@ -1,0 +1,402 @@
+"""The offline phase: fingerprint databases measured the way the papers measured them.
+
+Estimators may only use what a real team could have measured (DESIGN §6), so
+a survey runs the same sensor models as a walk, with the survey device's
+errors, and never reads a field model directly.
+
+* **Grid survey** (Han2023 §2.2.2, §4.2): at every point of a regular grid in
+  the walkable area the surveyor holds the phone flat and still for
+  ``duration_s`` at ``rate_hz`` (1.2 m, 30 s, 50 Hz in the paper). The
+  magnetometer samples are rotated into the geographic frame with the phone's
+  own fused attitude (its rotation vector: magnetic east, magnetic north, up)
+  and averaged; the light sensor's events are averaged too; WiFi scans heard
+  during the stay are averaged per AP. The device's turn-on errors are drawn
+  once per survey (one phone) and its noise per sample.
+* **Walk survey** (Chen2022 §3): the surveyor walks the survey's route with
+  the phone in hand, tapping a marker at reference points ``reference_spacing``
+  apart. The magnetic sequence is labelled with positions interpolated linearly
+  in time between marker taps — as a real survey labels it, so speed changes
+  between markers become label errors. WiFi fingerprints are taken standing
+  still at each reference point for ``wifi_dwell_s``: the scans heard are averaged.
+
+The result is a :class:`FingerprintDB`: named pandas tables with position
+columns ``x``, ``y`` and feature columns, plus metadata (device, spacing, frame).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+from scipy.spatial.transform import Rotation
+
+from indoorsim.atomic import write_folder
+from indoorsim.phone.devices import DeviceProfile, get_device
+from indoorsim.phone.fused import fuse
+from indoorsim.phone.kinematics import normal_gravity
+from indoorsim.phone.sensors import (
+    InertialErrors,
+    MagnetometerErrors,
+    apply_inertial,
+    apply_magnetometer,
+    light_events,
+    sample_times,
+    scan_rss,
+    wifi_scans,
+)
+from indoorsim.scenario import GridSurveySpec, WalkSurveySpec
+from indoorsim.world.site import Site
+
+_DB_FILE = "fingerprints.json"
+_FORMAT_VERSION = 1
+# Child streams of a survey's SeedSequence, by name (append only).
+_STREAMS = ("errors", "noise", "wifi_times", "wifi", "walk", "hand")
+
+
+@dataclass(kw_only=True)
+class FingerprintDB:
+    """Fingerprint tables of one survey.
+
+    Attributes:
+        tables: named tables; each has ``x``, ``y`` (building frame, m) and feature columns.
+        meta: JSON-able description: scenario, survey kind, device, spacing, frames, seed.
+    """
+
+    tables: dict[str, pd.DataFrame]
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def __getitem__(self, name: str) -> pd.DataFrame:
+        if name not in self.tables:
+            raise KeyError(
+                f"fingerprint database has no table {name!r}; tables are {sorted(self.tables)}"
+            )
+        return self.tables[name]
+
+    def save(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+        """Write the tables as Parquet files plus ``fingerprints.json``, atomically."""
+
+        def write(folder: Path) -> None:
+            for name, df in self.tables.items():
+                df.to_parquet(folder / f"{name}.parquet", index=False)
+            doc = {"format_version": _FORMAT_VERSION, "tables": sorted(self.tables), **self.meta}
+            (folder / _DB_FILE).write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n")
+
+        return write_folder(
+            Path(path),
+            write,
+            overwrite=overwrite,
+            is_ours=_is_db_folder,
+            what="fingerprint database",
+        )
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> FingerprintDB:
+        """Read a folder written by :meth:`save`."""
+        folder = Path(path)
+        if not _is_db_folder(folder):
+            raise FileNotFoundError(
+                f"{folder} is not an indoorsim fingerprint database (no {_DB_FILE})"
+            )
+        doc = json.loads((folder / _DB_FILE).read_text())
+        names = doc.pop("tables")
+        doc.pop("format_version")
+        return cls(tables={n: pd.read_parquet(folder / f"{n}.parquet") for n in names}, meta=doc)
+
+
+def _is_db_folder(path: Path) -> bool:
+    return (path / _DB_FILE).is_file()
+
+
+def survey_streams(seed: int) -> dict[str, np.random.Generator]:
+    """The named random streams of one survey."""
+    return {
+        name: np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(i,)))
+        for i, name in enumerate(_STREAMS)
+    }
+
+
+def grid_points(site: Site, spec: GridSurveySpec) -> NDArray[np.float64]:
+    """(P, 2) grid points at ``spec.spacing`` in the walkable area (or ``spec.region``)."""
+    from shapely.geometry import Polygon
+
+    region = site.plan.walkable
+    if spec.region is not None:
+        region = region.intersection(Polygon(spec.region))
+    x0, y0, x1, y1 = region.bounds
+    s = spec.spacing
+    xs = np.arange(x0 + s / 2, x1, s)
+    ys = np.arange(y0 + s / 2, y1, s)
+    gx, gy = (a.ravel() for a in np.meshgrid(xs, ys, indexing="xy"))
+    pts = np.column_stack([gx, gy])
+    return (
+        pts[site.plan.is_walkable(pts)]
+        if region is site.plan.walkable
+        else pts[_contains(region, pts)]
+    )
+
+
+def _contains(region: Any, pts: NDArray[np.float64]) -> NDArray[np.bool_]:
+    import shapely
+
+    return shapely.contains_xy(region, pts[:, 0], pts[:, 1])
+
+
+def grid_survey(
+    site: Site,
+    spec: GridSurveySpec,
+    device: str | DeviceProfile = "honor_50",
+    seed: int = 0,
+    *,
+    heading_deg: float = 90.0,
+) -> FingerprintDB:
+    """Han2023's grid survey (see the module docstring).
+
+    Args:
+        site: the building.
+        spec: grid spacing, stay duration, sample rate, phone height, region.
+        device: the survey phone.
+        seed: the survey's seed.
+        heading_deg: direction the phone's top points during the survey,
+            degrees from the building's +x axis (the surveyor faces one way).
+
+    Returns:
+        A database with one table ``grid``: x, y, mag_x, mag_y, mag_z (µT, the
+        phone's geographic frame), mag_norm, lux, and ``rss_<bssid>`` (mean dBm
+        of the scans that heard the AP; NaN if none did).
+    """
+    profile = get_device(device) if isinstance(device, str) else device
+    rngs = survey_streams(seed)
+    pts = grid_points(site, spec)
+    g = normal_gravity(site.scenario.site.latitude)
+    # The hand is not a tripod: each stay gets a small fixed tilt and yaw error.
+    hand = rngs["hand"]
+    tilt = hand.normal(0.0, np.radians(1.0), (len(pts), 2))
+    yaw = np.radians(heading_deg - 90.0) + hand.normal(0.0, np.radians(2.0), len(pts))
+    att = Rotation.from_euler("zxy", np.column_stack([yaw, tilt]))  # world←phone per point
+    # One phone: its turn-on errors are drawn once for the whole survey.
+    err_rng = rngs["errors"]
+    acc_err = InertialErrors.draw(profile.accel, err_rng)
+    gyro_err = InertialErrors.draw(profile.gyro, err_rng)
+    mag_err = MagnetometerErrors.draw(profile.mag, err_rng)
+    noise = rngs["noise"]
+    field_w = site.magnetic_field(np.column_stack([pts, np.full(len(pts), spec.height)]))
+    lux_true = site.illuminance(
+        np.column_stack([pts, np.full(len(pts), spec.height)]), att.apply([0.0, 0.0, 1.0])
+    )
+    rss_true = site.rss(np.column_stack([pts, np.full(len(pts), spec.height)]))
+    rows = []
+    for k in range(len(pts)):
+        t = sample_times(spec.duration_s, spec.rate_hz, profile.timestamp_jitter_frac, noise)
+        n = len(t)
+        r_inv = att[k].inv()
+        acc = apply_inertial(
+            np.tile(r_inv.apply([0.0, 0.0, g]), (n, 1)), t, profile.accel, noise, errors=acc_err
+        )
+        gyro = apply_inertial(np.zeros((n, 3)), t, profile.gyro, noise, errors=gyro_err)
+        mag = apply_magnetometer(
+            np.tile(r_inv.apply(field_w[k]), (n, 1)), t, profile.mag, noise, errors=mag_err
+        )
+        fused = fuse(t, acc, t, gyro, t, mag, gravity_mps2=g)
+        est = Rotation.from_quat(fused.rotation, scalar_first=True)
+        mag_geo = est.apply(mag).mean(axis=0)  # phone frame → its own geographic frame
+        _, lux = light_events(t, np.full(n, lux_true[k]), profile.light, noise)
+        scans = wifi_scans(spec.duration_s, profile.wifi, rngs["wifi_times"])
+        heard = scan_rss(
+            scans,
+            np.tile(rss_true[k], (len(scans), 1)),
+            site.radio.bssids,
+            profile.wifi,
+            rngs["wifi"],
+        )
+        rss = heard.groupby("bssid")["rss"].mean() if len(heard) else pd.Series(dtype=float)
+        row = {
+            "x": pts[k, 0],
+            "y": pts[k, 1],
+            "mag_x": mag_geo[0],
+            "mag_y": mag_geo[1],
+            "mag_z": mag_geo[2],
+            "mag_norm": float(np.linalg.norm(mag, axis=1).mean()),
+            "lux": float(np.mean(lux)) if len(lux) else np.nan,
+        }
+        row.update({f"rss_{b}": float(rss.get(b, np.nan)) for b in site.radio.bssids})
+        rows.append(row)
+    table = pd.DataFrame(rows)
+    meta = _meta(site, "grid", profile, seed, spec.model_dump(mode="json"))
+    meta["heading_deg"] = heading_deg
+    return FingerprintDB(tables={"grid": table}, meta=meta)
+
+
+def _meta(
+    site: Site, kind: str, device: DeviceProfile, seed: int, spec: dict[str, Any]
+) -> dict[str, Any]:
+    return {
+        "scenario": site.name,
+        "kind": kind,
+        "device": device.name,
+        "seed": int(seed),
+        "spec": spec,
+        "frame": {
+            "position": "building frame, metres",
+            "magnetic": "the survey phone's geographic frame: magnetic east, north, up (µT)",
+        },
+    }
+
+
+def walk_survey(
+    site: Site,
+    spec: WalkSurveySpec,
+    device: str | DeviceProfile = "honor_50",
+    seed: int = 0,
+) -> FingerprintDB:
+    """Chen2022's walk survey (see the module docstring).
+
+    Returns:
+        A database with tables ``magnetic`` (t, x, y labelled from the markers,
+        true_x, true_y, mag_x, mag_y, mag_z in the phone frame, b_h, b_v, b_norm
+        from the fused gravity — Eq. 17–18), ``markers`` (t, x, y of each
+        reference point) and ``wifi`` (ref, x, y and ``rss_<bssid>`` means).
+    """
+    from indoorsim.simulate import resolve_route, simulate
+
+    profile = get_device(device) if isinstance(device, str) else device
+    rngs = survey_streams(seed)
+    route = resolve_route(site, spec.route)
+    markers = _reference_points(route.points, spec.reference_spacing)
+    tables_mag, tables_marks = [], []
+    for rep in range(spec.repeats):
+        rec = simulate(
+            site,
+            route=route,
+            mode="handheld",
+            device=profile,
+            seed=int(rngs["walk"].integers(2**31)),
+        )
+        truth = rec.truth
+        body = truth[["body_x", "body_y"]].to_numpy()
+        t_mark = _marker_taps(truth.index.to_numpy(), body, np.asarray(route.points), markers)
+        mag = rec.mag
+        tm = mag.index.to_numpy()
+        inside = (tm >= t_mark[0]) & (tm <= t_mark[-1])
+        x = np.interp(tm[inside], t_mark, markers[:, 0])
+        y = np.interp(tm[inside], t_mark, markers[:, 1])
+        grav = rec.gravity
+        gv = np.column_stack([np.interp(tm[inside], grav.index, grav[c]) for c in "xyz"])
+        up = gv / np.linalg.norm(gv, axis=1, keepdims=True)
+        m = mag.to_numpy()[inside]
+        b_norm = np.linalg.norm(m, axis=1)
+        # Eq. 17: the component along "up" (negative in the northern hemisphere).
+        b_v = np.einsum("ij,ij->i", m, up)
+        b_h = np.sqrt(np.maximum(b_norm**2 - b_v**2, 0.0))  # Eq. 18 with the erratum
+        true_xy = truth[["x", "y"]].to_numpy()
+        tables_mag.append(
+            pd.DataFrame(
+                {
+                    "pass": rep,
+                    "t": tm[inside],
+                    "x": x,
+                    "y": y,
+                    "true_x": np.interp(tm[inside], truth.index, true_xy[:, 0]),
+                    "true_y": np.interp(tm[inside], truth.index, true_xy[:, 1]),
+                    "mag_x": m[:, 0],
+                    "mag_y": m[:, 1],
+                    "mag_z": m[:, 2],
+                    "b_h": b_h,
+                    "b_v": b_v,
+                    "b_norm": b_norm,
+                }
+            )
+        )
+        tables_marks.append(
+            pd.DataFrame(
+                {
+                    "pass": rep,
+                    "ref": np.arange(len(markers)),
+                    "t": t_mark,
+                    "x": markers[:, 0],
+                    "y": markers[:, 1],
+                }
+            )
+        )
+    # WiFi: standing still at each reference point for the dwell time.
+    height = 1.2
+    rss_true = site.rss(np.column_stack([markers, np.full(len(markers), height)]))
+    rows = []
+    for k, point in enumerate(markers):
+        scans = wifi_scans(spec.wifi_dwell_s, profile.wifi, rngs["wifi_times"])
+        heard = scan_rss(
+            scans,
+            np.tile(rss_true[k], (len(scans), 1)),
+            site.radio.bssids,
+            profile.wifi,
+            rngs["wifi"],
+        )
+        rss = heard.groupby("bssid")["rss"].mean() if len(heard) else pd.Series(dtype=float)
+        row = {"ref": k, "x": point[0], "y": point[1], "scans": len(scans)}
+        row.update({f"rss_{b}": float(rss.get(b, np.nan)) for b in site.radio.bssids})
+        rows.append(row)
+    meta = _meta(site, "walk", profile, seed, spec.model_dump(mode="json"))
+    meta["frame"]["magnetic"] = "phone frame (mag_*); b_h, b_v from the phone's fused gravity (µT)"
+    return FingerprintDB(
+        tables={
+            "magnetic": pd.concat(tables_mag, ignore_index=True),
+            "markers": pd.concat(tables_marks, ignore_index=True),
+            "wifi": pd.DataFrame(rows),
+        },
+        meta=meta,
+    )
+
+
+def _reference_points(points: NDArray[np.float64], spacing: float) -> NDArray[np.float64]:
+    """Points every ``spacing`` metres along a polyline, plus its end and every corner."""
+    pts = np.asarray(points, dtype=float)
+    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    s_corner = np.r_[0.0, np.cumsum(seg)]
+    s = np.union1d(np.arange(0.0, s_corner[-1], spacing), s_corner)
+    return np.column_stack([np.interp(s, s_corner, pts[:, i]) for i in range(2)])
+
+
+def _marker_taps(
+    t: NDArray[np.float64],
+    body: NDArray[np.float64],
+    route: NDArray[np.float64],
+    markers: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """When the surveyor taps each marker: as the body reaches it along the walk.
+
+    Progress is the distance walked so far, scaled to the route's length (the
+    walker cuts corners a little); the first marker is tapped on setting off.
+    Routes that return to their start (loops) are handled, unlike a nearest-point rule.
+    """
+    walked = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(body, axis=0), axis=1))]
+    route_s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(route, axis=0), axis=1))]
+    marker_s = _arc_length_of(markers, route, route_s)
+    target = marker_s / route_s[-1] * walked[-1]
+    target[0] = min(0.05, walked[-1])  # setting off
+    idx = np.minimum(np.searchsorted(walked, target), len(t) - 1)
+    return t[idx]
+
+
+def _arc_length_of(
+    points: NDArray[np.float64], route: NDArray[np.float64], route_s: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Arc length along ``route`` of reference points generated on it, in order."""
+    out = np.empty(len(points))
+    seg = 0
+    for k, p in enumerate(points):
+        # Reference points come in route order: search forward from the last one.
+        while seg < len(route) - 2 and not _on_segment(p, route[seg], route[seg + 1]):
+            seg += 1
+        out[k] = route_s[seg] + np.linalg.norm(p - route[seg])
+    return out
+
+
+def _on_segment(p: NDArray[np.float64], a: NDArray[np.float64], b: NDArray[np.float64]) -> bool:
+    d = b - a
+    t = float(np.dot(p - a, d) / max(np.dot(d, d), 1e-12))
+    return -1e-9 <= t <= 1 + 1e-9 and float(np.linalg.norm(a + t * d - p)) < 1e-6
