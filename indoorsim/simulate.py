@@ -174,7 +174,8 @@ def sample_sensors(
     mag = apply_magnetometer(imu.to_phone_frame(t_mag, field_w), t_mag, device.mag, rngs["mag"])
 
     t_fine = np.arange(t0, phone.t[-1], 1.0 / light_sample_hz)
-    normals = imu.attitude(t_fine).apply([0.0, 0.0, 1.0])  # the screen's outward normal
+    # The screen's outward normal, phone +z, in the world frame.
+    normals = imu.to_world_frame(t_fine, np.tile([0.0, 0.0, 1.0], (len(t_fine), 1)))
     exposure = np.interp(t_fine, phone.t, phone.light_exposure)
     lux_fine = site.illuminance(imu.position(t_fine), normals) * exposure
     t_light, lux = light_events(t_fine, lux_fine, device.light, rngs["light"])

@@ -21,7 +21,9 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
-from scipy.spatial.transform import Rotation, Slerp
+from scipy.spatial.transform import Rotation
+
+from indoorsim import quaternion as quat_ops
 
 
 def normal_gravity(latitude_deg: float) -> float:
@@ -49,10 +51,12 @@ class IdealImu:
         self.gravity_mps2 = gravity_mps2
         self._pos = CubicSpline(self.t, np.asarray(position, dtype=float), axis=0)
         self._acc = self._pos.derivative(2)
-        self._rot = Rotation.from_quat(np.asarray(quat, dtype=float), scalar_first=True)
-        self._slerp = Slerp(self.t, self._rot)
+        q = np.asarray(quat, dtype=float)
+        # Sign-continuous samples, so interpolation takes the short way round.
+        flips = np.r_[False, np.einsum("ij,ij->i", q[1:], q[:-1]) < 0]
+        self._quat = q * np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)[:, None]
         dt = np.diff(self.t)
-        self._rate_mid = (self._rot[:-1].inv() * self._rot[1:]).as_rotvec() / dt[:, None]
+        self._rate_mid = quat_ops.relative_rotvec(self._quat[:-1], self._quat[1:]) / dt[:, None]
         self._t_mid = 0.5 * (self.t[:-1] + self.t[1:])
 
     def _clip(self, times: ArrayLike) -> NDArray[np.float64]:
@@ -68,16 +72,20 @@ class IdealImu:
         """(N, 3) phone position, m."""
         return self._pos(self._clip(times))
 
+    def quaternion(self, times: ArrayLike) -> NDArray[np.float64]:
+        """(N, 4) world←phone unit quaternions (w, x, y, z) at ``times``."""
+        return quat_ops.slerp(self.t, self._quat, self._clip(times))
+
     def attitude(self, times: ArrayLike) -> Rotation:
         """World←phone rotations at ``times``."""
-        return self._slerp(self._clip(times))
+        return Rotation.from_quat(self.quaternion(times), scalar_first=True)
 
     def specific_force(self, times: ArrayLike) -> NDArray[np.float64]:
         """(N, 3) ideal accelerometer reading in the phone frame, m/s²."""
         ts = self._clip(times)
         acc_w = self._acc(ts)
         acc_w[:, 2] += self.gravity_mps2
-        return self._slerp(ts).inv().apply(acc_w)
+        return quat_ops.rotate(quat_ops.conjugate(self.quaternion(ts)), acc_w)
 
     def angular_rate(self, times: ArrayLike) -> NDArray[np.float64]:
         """(N, 3) ideal gyroscope reading in the phone frame, rad/s."""
@@ -86,4 +94,8 @@ class IdealImu:
 
     def to_phone_frame(self, times: ArrayLike, vectors_world: ArrayLike) -> NDArray[np.float64]:
         """Express world-frame vectors (N, 3), one per time, in the phone frame."""
-        return self.attitude(times).inv().apply(np.asarray(vectors_world, dtype=float))
+        return quat_ops.rotate(quat_ops.conjugate(self.quaternion(times)), vectors_world)
+
+    def to_world_frame(self, times: ArrayLike, vectors_phone: ArrayLike) -> NDArray[np.float64]:
+        """Express phone-frame vectors (N, 3), one per time, in the world frame."""
+        return quat_ops.rotate(self.quaternion(times), vectors_phone)

@@ -1,0 +1,41 @@
+"""Quaternion helpers agree with scipy's Rotation."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial.transform import Rotation, Slerp
+
+from indoorsim import quaternion as quat
+
+
+def _random(n: int, seed: int) -> Rotation:
+    return Rotation.random(n, random_state=seed)
+
+
+def test_multiply_conjugate_and_rotate_match_scipy():
+    a, b = _random(50, 0), _random(50, 1)
+    qa, qb = a.as_quat(scalar_first=True), b.as_quat(scalar_first=True)
+    got = Rotation.from_quat(quat.multiply(qa, qb), scalar_first=True)
+    assert np.allclose((got.inv() * (a * b)).magnitude(), 0, atol=1e-12)
+    v = np.random.default_rng(2).normal(size=(50, 3))
+    np.testing.assert_allclose(quat.rotate(qa, v), a.apply(v), atol=1e-12)
+    np.testing.assert_allclose(quat.rotate(quat.conjugate(qa), v), a.inv().apply(v), atol=1e-12)
+
+
+def test_relative_rotvec_matches_scipy_including_tiny_angles():
+    a = _random(40, 3)
+    small = Rotation.from_rotvec(np.random.default_rng(4).normal(0, 1e-9, (40, 3)))
+    for b in (_random(40, 5), a * small):
+        want = (a.inv() * b).as_rotvec()
+        got = quat.relative_rotvec(a.as_quat(scalar_first=True), b.as_quat(scalar_first=True))
+        np.testing.assert_allclose(got, want, atol=1e-12)
+
+
+def test_slerp_matches_scipy():
+    t = np.linspace(0, 10, 21)
+    rots = _random(21, 6)
+    q = rots.as_quat(scalar_first=True)
+    tq = np.random.default_rng(7).uniform(0, 10, 300)
+    got = Rotation.from_quat(quat.slerp(t, q, tq), scalar_first=True)
+    want = Slerp(t, rots)(tq)
+    assert np.abs((got.inv() * want).magnitude()).max() < 1e-9
