@@ -1,0 +1,1 @@
+"""Gymnasium environments for indoor positioning (DESIGN §9)."""

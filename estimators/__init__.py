@@ -1,0 +1,1 @@
+"""Position estimators: the protocol, reusable components, the paper pipelines and baselines."""

@@ -1,0 +1,173 @@
+"""The estimator protocol and the public knowledge an estimator may use.
+
+An estimator is any object with::
+
+    name: str
+    def fit(self, site: SiteContext, train: Sequence[Recording]) -> None  # optional training
+    def reset(self, start: StartInfo) -> None                              # a new episode
+    def act(self, obs: Observation) -> np.ndarray                          # (x, y) now, metres
+
+It sees only what a real team would have: the :class:`SiteContext` (floor
+plan, fingerprint databases measured with the survey phone, the site's
+frames), labelled training walks on other routes and seeds, the start of each
+test episode, and the sensor windows of :mod:`indoorsim.windows`. It never
+imports the simulator's truth side (``indoorsim.world``, ``indoorsim.walker``,
+``indoorsim.phone``); a test enforces this.
+
+Estimators register by name (:func:`register`), through the entry-point group
+``indoorsim.estimators``, or as a ``"package.module:Class"`` string, so a
+user's package plugs in without editing indoorsim (:func:`make`).
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from importlib.metadata import entry_points
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from indoorsim.recording import Recording
+from indoorsim.survey import FingerprintDB
+from indoorsim.windows import Observation
+
+__all__ = [
+    "ENTRY_POINT_GROUP",
+    "Estimator",
+    "Observation",
+    "SiteContext",
+    "StartInfo",
+    "UnknownEstimatorError",
+    "available",
+    "make",
+    "register",
+]
+
+ENTRY_POINT_GROUP = "indoorsim.estimators"
+
+
+@dataclass(frozen=True, kw_only=True)
+class SiteContext:
+    """Public knowledge of a site.
+
+    Attributes:
+        name: the scenario (or real site) name.
+        plan: the floor plan, or ``None`` for real data without one. Offers
+            ``crosses_wall(p0, p1)``, ``is_walkable(points)``, ``bounds`` and
+            the ``walkable`` polygon.
+        fingerprints: survey databases by survey name (``"grid"``, ``"walk"``).
+        bssids: the APs, in the order of the observations' WiFi vectors.
+        building_north_deg: the building's +y axis, degrees clockwise from true north.
+        magnetic_declination_deg: magnetic north, degrees clockwise (east) of true north.
+        device: the walking phone's model name.
+        imu_rate_hz: the walking phone's nominal IMU rate.
+        window_samples: IMU samples per observation window.
+        extra: anything else a site provides (documented where it is filled in).
+    """
+
+    name: str
+    plan: Any = None
+    fingerprints: dict[str, FingerprintDB] = field(default_factory=dict)
+    bssids: tuple[str, ...] = ()
+    building_north_deg: float = 0.0
+    magnetic_declination_deg: float = 0.0
+    device: str = ""
+    imu_rate_hz: float = 50.0
+    window_samples: int = 50
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def magnetic_to_building_rad(self) -> float:
+        """Add to a heading measured from magnetic east (Android's rotation-vector
+        frame, counter-clockwise) to get it from the building's +x axis."""
+        return math.radians(self.building_north_deg - self.magnetic_declination_deg)
+
+
+@dataclass(frozen=True, kw_only=True)
+class StartInfo:
+    """What an episode reveals at its start, as in the papers' experiments.
+
+    Attributes:
+        position: (2,) start position in the building frame, m.
+        heading: initial walking direction, rad counter-clockwise from the building's +x.
+        seed: the episode's seed, for estimators that sample (particle filters).
+        t0: time of the first observation sample, s.
+    """
+
+    position: NDArray[np.float64]
+    heading: float
+    seed: int = 0
+    t0: float = 0.0
+
+
+@runtime_checkable
+class Estimator(Protocol):
+    """The protocol every estimator satisfies (see the module docstring)."""
+
+    name: str
+
+    def fit(self, site: SiteContext, train: Sequence[Recording]) -> None: ...
+
+    def reset(self, start: StartInfo) -> None: ...
+
+    def act(self, obs: Observation) -> NDArray[np.float64]: ...
+
+
+class UnknownEstimatorError(LookupError):
+    """An estimator name that is neither registered, an entry point, nor ``module:Class``."""
+
+
+_REGISTRY: dict[str, Callable[..., Estimator]] = {}
+
+
+def register(name: str) -> Callable[[type], type]:
+    """Class decorator: make the estimator constructible as ``make(name)``."""
+
+    def deco(cls: type) -> type:
+        if name in _REGISTRY and _REGISTRY[name] is not cls:
+            raise ValueError(f"estimator name {name!r} is already registered to {_REGISTRY[name]}")
+        _REGISTRY[name] = cls
+        return cls
+
+    return deco
+
+
+def available() -> list[str]:
+    """Names of the registered and entry-point estimators."""
+    _load_builtins()
+    names = set(_REGISTRY) | {ep.name for ep in entry_points(group=ENTRY_POINT_GROUP)}
+    return sorted(names)
+
+
+def make(spec: str, **kwargs: Any) -> Estimator:
+    """Build an estimator from a registered name, an entry-point name, or ``module:Class``.
+
+    Raises:
+        UnknownEstimatorError: listing the names that exist.
+    """
+    _load_builtins()
+    if spec in _REGISTRY:
+        return _REGISTRY[spec](**kwargs)
+    for ep in entry_points(group=ENTRY_POINT_GROUP):
+        if ep.name == spec:
+            return ep.load()(**kwargs)
+    if ":" in spec:
+        module, _, attr = spec.partition(":")
+        try:
+            target = getattr(importlib.import_module(module), attr)
+        except (ImportError, AttributeError) as err:
+            raise UnknownEstimatorError(f"cannot load estimator {spec!r}: {err}") from None
+        return target(**kwargs)
+    raise UnknownEstimatorError(
+        f"unknown estimator {spec!r}; available: {', '.join(available())} "
+        "(or give 'package.module:Class')"
+    )
+
+
+def _load_builtins() -> None:
+    # Importing the pipelines registers them; done lazily to keep `import` light.
+    importlib.import_module("indoorsim.estimators.baselines")

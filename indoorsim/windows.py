@@ -1,0 +1,204 @@
+"""Observation windows: a recording's sensor streams cut into fixed-size pieces.
+
+This is the one place where streams become what an estimator sees, shared by
+the Gymnasium environment, the real-data runner and the data-set writer. It
+reads only sensor streams — never ``truth``, ``steps`` or ``waypoints``.
+
+A window is ``samples`` consecutive accelerometer samples (the IMU clock sets
+the pace: a fixed length at the IMU rate). Every other stream is aligned to
+those timestamps by sample-and-hold (the latest sample at or before each IMU
+time) with a ``*_fresh`` mask marking where a new sample arrived, so the
+slower sensors' timing is not lost. WiFi is a vector over the site's BSSIDs:
+the latest scan at or before the window's end, which APs it heard, whether it
+arrived during this window, and its age. A stream the recording lacks (real
+logs without light, say) is zeros with its fresh mask all zero, and
+``present`` says which streams exist. The last window of a recording may be
+short: ``valid`` marks its real samples and the padding repeats the last one.
+
+Observation keys and shapes (W = samples, A = number of APs):
+
+=================  =========  ==============================================
+key                shape      meaning
+=================  =========  ==============================================
+``t``              (W,)       IMU sample times, s from the recording start
+``valid``          (W,)       1 for real samples, 0 for padding
+``accel``          (W, 3)     specific force, phone frame, m/s²
+``gyro``           (W, 3)     angular rate, phone frame, rad/s
+``mag``            (W, 3)     magnetic field, phone frame, µT
+``mag_fresh``      (W,)       1 where a new magnetometer sample arrived
+``rotation``       (W, 4)     fused rotation vector (w, x, y, z), world←phone
+``game_rotation``  (W, 4)     fused game rotation vector
+``gravity``        (W, 3)     fused gravity, phone frame, m/s²
+``light``          (W,)       illuminance, lux
+``light_fresh``    (W,)       1 where a light event arrived
+``wifi_rss``       (A,)       latest scan's RSS per AP, dBm (``NO_SIGNAL_DBM`` if unheard)
+``wifi_heard``     (A,)       1 where the latest scan heard the AP
+``wifi_fresh``     (1,)       1 if a scan arrived during this window
+``wifi_age``       (1,)       seconds since the latest scan (``MAX_AGE_S`` if none yet)
+``present``        (6,)       1 per stream present: gyro, mag, rotation, light, wifi, gravity
+=================  =========  ==============================================
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+
+import gymnasium as gym
+import numpy as np
+from numpy.typing import NDArray
+
+from indoorsim.recording import Recording
+
+NO_SIGNAL_DBM = -110.0
+MAX_AGE_S = 3600.0
+PRESENT_ORDER = ("gyro", "mag", "rotation", "light", "wifi", "gravity")
+
+Observation = dict[str, NDArray]
+
+
+def observation_space(samples: int, n_aps: int) -> gym.spaces.Dict:
+    """The Gymnasium space of one observation window."""
+    big = np.float64(1e9)
+
+    def box(shape: tuple[int, ...], low: float = -big, high: float = big) -> gym.spaces.Box:
+        return gym.spaces.Box(low=low, high=high, shape=shape, dtype=np.float64)
+
+    w = samples
+    return gym.spaces.Dict(
+        {
+            "t": box((w,), 0.0),
+            "valid": gym.spaces.MultiBinary(w),
+            "accel": box((w, 3)),
+            "gyro": box((w, 3)),
+            "mag": box((w, 3)),
+            "mag_fresh": gym.spaces.MultiBinary(w),
+            "rotation": box((w, 4), -1.0, 1.0),
+            "game_rotation": box((w, 4), -1.0, 1.0),
+            "gravity": box((w, 3)),
+            "light": box((w,), 0.0),
+            "light_fresh": gym.spaces.MultiBinary(w),
+            "wifi_rss": box((n_aps,), -200.0, 50.0),
+            "wifi_heard": gym.spaces.MultiBinary(n_aps),
+            "wifi_fresh": gym.spaces.MultiBinary(1),
+            "wifi_age": box((1,), 0.0, MAX_AGE_S),
+            "present": gym.spaces.MultiBinary(len(PRESENT_ORDER)),
+        }
+    )
+
+
+def _hold(t_src: NDArray[np.float64], t_dst: NDArray[np.float64]) -> NDArray[np.intp]:
+    """Index of the latest source sample at or before each destination time (−1: none yet)."""
+    return np.searchsorted(t_src, t_dst, side="right") - 1
+
+
+class Windower:
+    """Cuts a recording into observation windows (see the module docstring).
+
+    Args:
+        recording: the walk (simulated or real); needs an ``accel`` stream.
+        samples: IMU samples per window.
+        bssids: the APs, in the order of the WiFi vectors.
+    """
+
+    def __init__(self, recording: Recording, samples: int, bssids: Sequence[str]):
+        if samples < 1:
+            raise ValueError(f"samples per window must be ≥ 1, got {samples}")
+        self.samples = samples
+        self.bssids = tuple(bssids)
+        streams = recording.streams
+        if "accel" not in streams or len(streams["accel"]) == 0:
+            raise ValueError("an observation window needs an 'accel' stream with samples")
+        accel = streams["accel"]
+        self.t = accel.index.to_numpy(dtype=float)
+        n = len(self.t)
+        self.present = np.array(
+            [int(name in streams and len(streams[name]) > 0) for name in PRESENT_ORDER], np.int8
+        )
+        self._aligned: dict[str, NDArray] = {"accel": accel[["x", "y", "z"]].to_numpy(dtype=float)}
+        for name, cols, width in (
+            ("gyro", ["x", "y", "z"], 3),
+            ("mag", ["x", "y", "z"], 3),
+            ("rotation", ["qw", "qx", "qy", "qz"], 4),
+            ("game_rotation", ["qw", "qx", "qy", "qz"], 4),
+            ("gravity", ["x", "y", "z"], 3),
+            ("light", ["lux"], 1),
+        ):
+            values = np.zeros((n, width))
+            fresh = np.zeros(n, dtype=np.int8)
+            df = streams.get(name)
+            if df is not None and len(df):
+                ts = df.index.to_numpy(dtype=float)
+                idx = _hold(ts, self.t)
+                ok = idx >= 0
+                values[ok] = df[cols].to_numpy(dtype=float)[idx[ok]]
+                # Before the first sample, hold the first value (a phone's first event).
+                values[~ok] = df[cols].to_numpy(dtype=float)[0]
+                prev = np.r_[-1, idx[:-1]]
+                fresh = (idx > prev).astype(np.int8)
+            if name in ("rotation", "game_rotation") and (df is None or not len(df)):
+                values[:, 0] = 1.0  # identity, not an invalid zero quaternion
+            self._aligned[name] = values[:, 0] if width == 1 else values
+            if name in ("mag", "light"):  # the slow sensors: their timing matters
+                self._aligned[f"{name}_fresh"] = fresh
+        self._wifi = self._scans(streams.get("wifi"))
+
+    def _scans(
+        self, wifi: object
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int8]]:
+        """Scan times (S,), RSS (S, A) and heard flags (S, A)."""
+        a = len(self.bssids)
+        if wifi is None or not len(wifi):  # type: ignore[arg-type]
+            return np.zeros(0), np.zeros((0, a)), np.zeros((0, a), np.int8)
+        col = {b: k for k, b in enumerate(self.bssids)}
+        ts = wifi.index.to_numpy(dtype=float)  # type: ignore[attr-defined]
+        scan_t, scan_of_row = np.unique(ts, return_inverse=True)
+        rss = np.full((len(scan_t), a), NO_SIGNAL_DBM)
+        heard = np.zeros((len(scan_t), a), np.int8)
+        ap = np.array([col.get(b, -1) for b in wifi["bssid"]], dtype=np.intp)  # type: ignore[index]
+        keep = ap >= 0  # APs outside the site's list are ignored
+        rss[scan_of_row[keep], ap[keep]] = wifi["rss"].to_numpy(dtype=float)[keep]  # type: ignore[index]
+        heard[scan_of_row[keep], ap[keep]] = 1
+        return scan_t, rss, heard
+
+    def __len__(self) -> int:
+        return -(-len(self.t) // self.samples)
+
+    def end_time(self, k: int) -> float:
+        """Time of window k's last real sample, s."""
+        return float(self.t[min((k + 1) * self.samples, len(self.t)) - 1])
+
+    def window(self, k: int) -> Observation:
+        """Observation k (0-based)."""
+        if not 0 <= k < len(self):
+            raise IndexError(f"window {k} out of range: the recording has {len(self)} windows")
+        lo = k * self.samples
+        hi = min(lo + self.samples, len(self.t))
+        idx = np.minimum(np.arange(lo, lo + self.samples), hi - 1)  # pad by repeating the last
+        obs: Observation = {
+            "t": self.t[idx],
+            "valid": (np.arange(lo, lo + self.samples) < hi).astype(np.int8),
+        }
+        for name, values in self._aligned.items():
+            obs[name] = values[idx]
+        t_end = self.t[hi - 1]
+        scan_t, rss, heard = self._wifi
+        s = int(np.searchsorted(scan_t, t_end, side="right")) - 1
+        a = len(self.bssids)
+        if s >= 0:
+            obs["wifi_rss"] = rss[s].copy()
+            obs["wifi_heard"] = heard[s].copy()
+            obs["wifi_fresh"] = np.array(
+                [int(scan_t[s] > (self.t[lo - 1] if lo > 0 else -np.inf))], np.int8
+            )
+            obs["wifi_age"] = np.array([min(t_end - scan_t[s], MAX_AGE_S)])
+        else:
+            obs["wifi_rss"] = np.full(a, NO_SIGNAL_DBM)
+            obs["wifi_heard"] = np.zeros(a, np.int8)
+            obs["wifi_fresh"] = np.zeros(1, np.int8)
+            obs["wifi_age"] = np.array([MAX_AGE_S])
+        obs["present"] = self.present.copy()
+        return obs
+
+    def __iter__(self) -> Iterator[Observation]:
+        for k in range(len(self)):
+            yield self.window(k)
