@@ -3,8 +3,12 @@
 ::
 
     indoorsim scenarios                                   # the bundled scenarios, as a table
+    indoorsim simulate minimal_room --route main --mode handheld,8:calling \
+        --device honor_50 --seed 1 --out walks/main-1     # one walk, as a recording folder
+    indoorsim survey han2023_basement --kind grid --device honor_50 --seed 0 --out db/
     indoorsim plot site minimal_room my-site.yaml --out plots/
     indoorsim plot site --all --out plots/ --resolution 0.2
+    indoorsim plot recording walks/main-1 trace.txt --out plots/
 
 Each subcommand is a pair of functions: ``_add_<command>(subparsers)`` declares
 its arguments and sets ``handler`` to ``_run_<command>(args) -> int``. Adding
@@ -13,28 +17,40 @@ listing its ``_add_`` function in :data:`_COMMANDS`; plot targets (``plot
 recording``, ...) are listed the same way in :data:`_PLOT_TARGETS`.
 
 Exit codes: 0 success, 1 an I/O failure while writing, 2 a usage error (bad
-arguments, an unknown scenario name, an invalid scenario file). Errors are
-printed to stderr as one clear message, without a traceback.
+arguments, an unknown scenario, route, mode or device name, an invalid scenario
+file, an output folder that is in the way). Errors are printed to stderr as one
+clear message, without a traceback.
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
+import math
 import sys
-from collections.abc import Callable, Sequence
+import textwrap
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, TypeAlias
 
 from indoorsim import __version__
 from indoorsim.scenario import (
+    GridSurveySpec,
     Scenario,
     ScenarioError,
+    WalkSurveySpec,
     bundled_scenarios,
     load_scenario,
     resolve_scenario,
 )
 
 if TYPE_CHECKING:
+    from indoorsim.phone.devices import DeviceProfile
+    from indoorsim.recording import Recording
+    from indoorsim.survey import FingerprintDB
+
     _Subparsers: TypeAlias = argparse._SubParsersAction[argparse.ArgumentParser]
 
 __all__ = ["build_parser", "main"]
@@ -57,6 +73,68 @@ def _positive(convert: Callable[[str], float]) -> Callable[[str], float]:
         return value
 
     return parse
+
+
+def _seed(text: str) -> int:
+    """An argparse ``type`` for seeds: integers >= 0, as ``numpy.random.SeedSequence`` takes."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text}")
+    return value
+
+
+def _check_out(out: Path, *, overwrite: bool, what: str) -> None:
+    """Refuse an ``--out`` folder that is in the way, before the slow work starts.
+
+    The writer makes the final decision (it never replaces anything but an
+    earlier ``what``); this only saves running a simulation whose result could
+    not be saved.
+    """
+    if out.exists() and not out.is_dir():
+        raise CliError(f"--out {out}: exists and is not a folder")
+    if out.is_dir() and any(out.iterdir()) and not overwrite:
+        raise CliError(
+            f"--out {out}: already exists; pass --overwrite to replace it "
+            f"(only an earlier {what} is ever replaced)"
+        )
+
+
+@contextmanager
+def _working(desc: str) -> Iterator[None]:
+    """A spinner-style progress bar on stderr, showing the elapsed time, around one long call.
+
+    The survey and simulation functions report no progress of their own, so
+    the bar cannot show a fraction done. Shown only when stderr is a terminal.
+    """
+    from tqdm import tqdm
+
+    done = threading.Event()
+    with tqdm(desc=desc, total=None, bar_format="{desc}: {elapsed}", disable=None) as bar:
+
+        def tick() -> None:
+            # Without updates tqdm would not redraw; refresh so the time moves.
+            while not done.wait(0.5):
+                bar.refresh()
+
+        ticker = threading.Thread(target=tick, daemon=True)
+        ticker.start()
+        try:
+            yield
+        finally:
+            done.set()
+            ticker.join()
+
+
+def _device(name: str) -> DeviceProfile:
+    from indoorsim.phone.devices import UnknownDeviceError, get_device
+
+    try:
+        return get_device(name)
+    except UnknownDeviceError as err:
+        raise CliError(str(err)) from None
 
 
 # ------------------------------------------------------------------- scenarios
@@ -116,13 +194,284 @@ def _run_scenarios(args: argparse.Namespace) -> int:
     return 0
 
 
+# ------------------------------------------------------------------- simulate
+
+_SCHEDULE_HELP = """\
+carrying mode:
+  --mode takes one carrying mode for the whole walk (handheld, calling, dangling,
+  pocketed, or one a plug-in adds), or a schedule of modes: comma-separated
+  entries START:MODE, START in seconds from the start of the walk. The first
+  entry starts at 0 and may omit its time. Example:
+
+      --mode handheld,30:calling,60:pocketed
+
+  holds the phone in the hand from 0 s, at the ear from 30 s and in a pocket
+  from 60 s. Each change takes 1.5 s, so starts must be at least that far apart
+  and before the walk ends.
+"""
+
+
+def _add_simulate(subparsers: _Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "simulate",
+        help="simulate one walk and write it as a recording folder",
+        # Raw, so that the schedule example keeps its layout; hence the line breaks.
+        description="Walk one of a scenario's routes with a phone carried as --mode and\n"
+        "write the sensor streams and the truth as a recording folder (Parquet\n"
+        "files and manifest.json), then print a summary.",
+        epilog=_SCHEDULE_HELP,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument(
+        "scenario", metavar="SCENARIO", help="a bundled scenario name or a scenario YAML file"
+    )
+    parser.add_argument("--route", required=True, metavar="NAME", help="a route of the scenario")
+    parser.add_argument(
+        "--mode",
+        required=True,
+        metavar="MODE",
+        help="a carrying mode, or a schedule such as handheld,30:calling,60:pocketed (see below)",
+    )
+    parser.add_argument(
+        "--device",
+        required=True,
+        metavar="DEVICE",
+        help="the phone's device profile, e.g. ideal (no sensor errors) or honor_50",
+    )
+    parser.add_argument(
+        "--seed", type=_seed, required=True, metavar="N", help="seed of the run (>= 0)"
+    )
+    parser.add_argument(
+        "--out", type=Path, required=True, metavar="DIR", help="the recording folder to write"
+    )
+    parser.add_argument(
+        "--overwrite", action="store_true", help="replace an earlier recording at --out"
+    )
+    parser.set_defaults(handler=_run_simulate)
+
+
+def _mode_schedule(text: str, valid: Sequence[str]) -> str | list[tuple[float, str]]:
+    """``--mode`` as :func:`~indoorsim.simulate.simulate` takes it: a name or ``[(t, name), ...]``.
+
+    Raises:
+        CliError: bad syntax, start times not increasing from 0, or a mode not in ``valid``.
+    """
+    entries: list[tuple[float, str]] = []
+    for i, item in enumerate(text.split(",")):
+        when, colon, name = item.strip().rpartition(":")
+        name = name.strip()
+        if not name:
+            raise CliError(f"--mode {text}: entry {i + 1} ({item!r}) names no carrying mode")
+        if name not in valid:
+            raise CliError(
+                f"--mode {text}: unknown carrying mode {name!r}; "
+                f"valid modes are: {', '.join(valid)}"
+            )
+        if not colon and i > 0:
+            raise CliError(f"--mode {text}: {name!r} needs a start time, as in 30:{name}")
+        try:
+            t_start = float(when) if colon else 0.0
+        except ValueError:
+            t_start = math.nan
+        if not (math.isfinite(t_start) and t_start >= 0):
+            raise CliError(f"--mode {text}: {when.strip()!r} is not a start time in seconds >= 0")
+        entries.append((t_start, name))
+    if entries[0][0] != 0:
+        raise CliError(f"--mode {text}: the first mode must start at 0 s, not {entries[0][0]:g} s")
+    for (before, _), (after, name) in itertools.pairwise(entries):
+        if after <= before:
+            raise CliError(
+                f"--mode {text}: start times must increase ({name} at {after:g} s "
+                f"follows {before:g} s)"
+            )
+    return entries[0][1] if len(entries) == 1 else entries
+
+
+def _run_simulate(args: argparse.Namespace) -> int:
+    _check_out(args.out, overwrite=args.overwrite, what="recording")
+    # Imported here: the simulator (numba, pymunk, scipy) is slow to import
+    # and not needed by the other subcommands.
+    from indoorsim import load_site
+    from indoorsim.simulate import simulate
+    from indoorsim.walker.carry import available_modes
+    from indoorsim.walker.route import RouteError
+
+    site = load_site(args.scenario)
+    routes = site.scenario.routes
+    if args.route not in routes:
+        raise CliError(
+            f"--route {args.route}: scenario {site.name!r} has no such route; "
+            f"its routes are: {', '.join(routes) or 'none'}"
+        )
+    mode = _mode_schedule(args.mode, available_modes())
+    device = _device(args.device)
+    try:
+        with _working(f"simulating {site.name}, route {args.route}"):
+            rec = simulate(site, route=args.route, mode=mode, device=device, seed=args.seed)
+    except RouteError as err:
+        raise CliError(f"--route {args.route}: {err}") from None
+    except ValueError as err:
+        # The carrying model checks a schedule against the walk itself (1.5 s
+        # between changes, every start before the walk ends).
+        if isinstance(mode, list) and str(err).startswith("schedule["):
+            raise CliError(f"--mode {args.mode}: {err}") from None
+        raise
+    path = rec.save(args.out, overwrite=args.overwrite)
+    print(_recording_summary(rec, path, args.mode))
+    return 0
+
+
+def _recording_summary(rec: Recording, path: Path, mode: str) -> str:
+    """One paragraph: what was walked, how far and long, and how many samples each stream has."""
+    import numpy as np
+
+    meta = rec.meta
+    body = rec.truth[["body_x", "body_y"]].to_numpy()
+    walked = float(np.linalg.norm(np.diff(body, axis=0), axis=1).sum())
+    counts = [
+        f"{name} {len(df)} readings in {df.index.nunique()} scans"
+        if name == "wifi"
+        else f"{name} {len(df)}"
+        for name, df in rec.streams.items()
+    ]
+    text = (
+        f"Wrote {path}: {meta['scenario']}, route {meta['route']['name']}, mode {mode}, "
+        f"device {meta['device']}, seed {meta['seed']}. A {rec.duration:.1f} s walk of "
+        f"{walked:.1f} m in {len(rec.steps)} steps. Samples per stream: {', '.join(counts)}."
+    )
+    return textwrap.fill(text, width=88, break_on_hyphens=False)
+
+
+# ------------------------------------------------------------------- survey
+
+
+def _add_survey(subparsers: _Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "survey",
+        help="run a scenario's survey plan and write the fingerprint database",
+        description="Run the offline phase as the papers did: a grid survey (phone held "
+        "still and flat at each grid point, Han2023) or a walk survey (walking a route past "
+        "reference points, Chen2022), following the scenario's survey plan of that kind. "
+        "Writes the FingerprintDB folder and prints a summary.",
+    )
+    parser.add_argument(
+        "scenario", metavar="SCENARIO", help="a bundled scenario name or a scenario YAML file"
+    )
+    parser.add_argument(
+        "--kind", required=True, choices=("grid", "walk"), help="which kind of survey"
+    )
+    parser.add_argument(
+        "--name",
+        metavar="SURVEY",
+        help="the survey plan to run, when the scenario has several of --kind",
+    )
+    parser.add_argument(
+        "--device",
+        required=True,
+        metavar="DEVICE",
+        help="the survey phone's device profile, e.g. ideal or honor_50",
+    )
+    parser.add_argument(
+        "--seed", type=_seed, required=True, metavar="N", help="seed of the survey (>= 0)"
+    )
+    parser.add_argument(
+        "--out", type=Path, required=True, metavar="DIR", help="the database folder to write"
+    )
+    parser.add_argument(
+        "--overwrite", action="store_true", help="replace an earlier database at --out"
+    )
+    parser.set_defaults(handler=_run_survey)
+
+
+def _survey_plan(
+    scenario: Scenario, kind: str, name: str | None
+) -> tuple[str, GridSurveySpec | WalkSurveySpec]:
+    """The name and spec of the scenario's survey plan of ``kind`` (called ``name``, if given)."""
+    plans = {n: spec for n, spec in scenario.surveys.items() if spec.kind == kind}
+    listing = ", ".join(f"{n} ({spec.kind})" for n, spec in scenario.surveys.items()) or "none"
+    if name is not None:
+        if name not in plans:
+            raise CliError(
+                f"--name {name}: scenario {scenario.name!r} has no {kind} survey plan of that "
+                f"name; its survey plans are: {listing}"
+            )
+        return name, plans[name]
+    if not plans:
+        raise CliError(
+            f"--kind {kind}: scenario {scenario.name!r} has no {kind} survey plan; "
+            f"its survey plans are: {listing}"
+        )
+    if len(plans) > 1:
+        raise CliError(
+            f"scenario {scenario.name!r} has {len(plans)} {kind} survey plans; "
+            f"choose one with --name: {', '.join(plans)}"
+        )
+    return next(iter(plans.items()))
+
+
+def _run_survey(args: argparse.Namespace) -> int:
+    _check_out(args.out, overwrite=args.overwrite, what="fingerprint database")
+    from indoorsim import load_site
+    from indoorsim.survey import grid_survey, walk_survey
+    from indoorsim.walker.route import RouteError
+
+    site = load_site(args.scenario)
+    name, spec = _survey_plan(site.scenario, args.kind, args.name)
+    device = _device(args.device)
+    try:
+        with _working(f"{args.kind} survey {name!r} of {site.name}"):
+            if isinstance(spec, GridSurveySpec):
+                db = grid_survey(site, spec, device=device, seed=args.seed)
+            else:
+                db = walk_survey(site, spec, device=device, seed=args.seed)
+    except RouteError as err:
+        raise CliError(f"survey {name!r}: {err}") from None
+    path = db.save(args.out, overwrite=args.overwrite)
+    print(_survey_summary(db, path, name))
+    return 0
+
+
+def _columns(names: Sequence[str]) -> str:
+    """Column names, with the one-per-AP ``rss_<bssid>`` columns counted rather than listed."""
+    rss = [c for c in names if c.startswith("rss_")]
+    shown = [c for c in names if not c.startswith("rss_")]
+    if rss:
+        shown.append(f"rss_<bssid> × {len(rss)}")
+    return ", ".join(shown)
+
+
+def _survey_summary(db: FingerprintDB, path: Path, name: str) -> str:
+    """One paragraph: which survey, how many points, and each table's rows and columns."""
+    meta, spec = db.meta, db.meta["spec"]
+    if meta["kind"] == "grid":
+        points = (
+            f"{len(db['grid'])} points {spec['spacing']:g} m apart, "
+            f"{spec['duration_s']:g} s at {spec['rate_hz']:g} Hz each"
+        )
+    else:
+        passes = spec["repeats"]
+        points = (
+            f"{len(db['wifi'])} reference points {spec['reference_spacing']:g} m apart along "
+            f"route {spec['route']}, {passes} pass{'es' if passes != 1 else ''}"
+        )
+    tables = "; ".join(
+        f"table {table}: {len(df)} rows, columns {_columns(list(df.columns))}"
+        for table, df in db.tables.items()
+    )
+    text = (
+        f"Wrote {path}: {meta['kind']} survey {name!r} of {meta['scenario']}, device "
+        f"{meta['device']}, seed {meta['seed']}: {points}. {tables}."
+    )
+    return textwrap.fill(text, width=88, break_on_hyphens=False)
+
+
 # ------------------------------------------------------------------- plot
 
 
 def _add_plot(subparsers: _Subparsers) -> None:
     parser = subparsers.add_parser(
         "plot",
-        help="draw figures of sites",
+        help="draw figures of sites and recordings",
         description="Draw figures and write them as PNG files.",
     )
     targets = parser.add_subparsers(dest="target", metavar="TARGET", required=True)
@@ -236,10 +585,82 @@ def _run_plot_site(args: argparse.Namespace) -> int:
     return 0
 
 
-_PLOT_TARGETS: tuple[Callable[[_Subparsers], None], ...] = (_add_plot_site,)
+def _add_plot_recording(subparsers: _Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "recording",
+        help="sensor streams and true track of recordings",
+        description="For each recording write <name>_streams.png (accelerometer with the "
+        "true steps, gyroscope, magnetometer, light, WiFi over time; panels for missing "
+        "streams are left out) and <name>_track.png (the true track coloured by carrying "
+        "mode, or a real log's waypoints; on the floor plan when the building is known), "
+        "with <name> the recording's folder or file name. Real logs without true positions "
+        "get no track.",
+    )
+    parser.add_argument(
+        "recordings",
+        nargs="+",
+        type=Path,
+        metavar="PATH",
+        help="recording folders (from indoorsim simulate) or real phone logs, e.g. "
+        "Indoor Location Competition traces (*.txt)",
+    )
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR", help="output folder")
+    parser.add_argument(
+        "--scenario",
+        metavar="NAME_OR_PATH",
+        help="the building under the tracks (default: the bundled scenario each "
+        "recording names, if there is one)",
+    )
+    parser.add_argument(
+        "--dpi",
+        type=_positive(int),
+        default=150,
+        help="resolution of the PNG files (default: %(default)s)",
+    )
+    parser.set_defaults(handler=_run_plot_recording)
+
+
+def _run_plot_recording(args: argparse.Namespace) -> int:
+    if args.out.exists() and not args.out.is_dir():
+        raise CliError(f"--out {args.out}: exists and is not a folder")
+    from tqdm import tqdm
+
+    from indoorsim import load_site
+    from indoorsim.plots import save_recording_plots
+    from indoorsim.recording import Recording, RecordingError
+
+    # Everything is read before anything is drawn, so a bad path fails fast.
+    recordings: dict[str, tuple[Path, Recording]] = {}
+    for path in args.recordings:
+        name = path.stem if path.is_file() else path.resolve().name
+        try:
+            rec = Recording.load(path)
+        except (FileNotFoundError, RecordingError) as err:
+            raise CliError(str(err)) from None
+        if name in recordings:
+            raise CliError(
+                f"{recordings[name][0]} and {path} are both named {name!r}; "
+                "their plots would overwrite each other"
+            )
+        recordings[name] = (path, rec)
+    site = load_site(args.scenario) if args.scenario is not None else None
+    bar = tqdm(recordings.items(), desc="plotting recordings", disable=len(recordings) < 2)
+    for name, (_, rec) in bar:
+        bar.set_postfix_str(name)
+        for path in save_recording_plots(rec, args.out, name, site=site, dpi=args.dpi):
+            tqdm.write(str(path), file=sys.stdout)
+    return 0
+
+
+_PLOT_TARGETS: tuple[Callable[[_Subparsers], None], ...] = (_add_plot_site, _add_plot_recording)
 """What ``indoorsim plot`` can draw; each entry adds one ``plot <target>`` subcommand."""
 
-_COMMANDS: tuple[Callable[[_Subparsers], None], ...] = (_add_scenarios, _add_plot)
+_COMMANDS: tuple[Callable[[_Subparsers], None], ...] = (
+    _add_scenarios,
+    _add_simulate,
+    _add_survey,
+    _add_plot,
+)
 """The subcommands, in the order ``indoorsim --help`` lists them."""
 
 
@@ -270,7 +691,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         return exit_.code if isinstance(exit_.code, int) else 2
     try:
         return args.handler(args)
-    except (CliError, ScenarioError) as err:
+    except (CliError, ScenarioError, FileExistsError) as err:
+        # FileExistsError: an output folder in the way, which only the user can clear.
         print(f"indoorsim: {err}", file=sys.stderr)
         return 2
     except OSError as err:
