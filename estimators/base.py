@@ -7,6 +7,11 @@ An estimator is any object with::
     def reset(self, start: StartInfo) -> None                              # a new episode
     def act(self, obs: Observation) -> np.ndarray                          # (x, y) now, metres
 
+An estimator may also expose ``heading`` (its current walking-direction
+estimate, rad counter-clockwise from the building's +x) and ``step_count``
+(steps detected so far): the runner then scores heading error per window and
+step-count error.
+
 It sees only what a real team would have: the :class:`SiteContext` (floor
 plan, fingerprint databases measured with the survey phone, the site's
 frames), labelled training walks on other routes and seeds, the start of each
@@ -31,8 +36,8 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import NDArray
 
+from indoorsim.fingerprints import FingerprintDB
 from indoorsim.recording import Recording
-from indoorsim.survey import FingerprintDB
 from indoorsim.windows import Observation
 
 __all__ = [

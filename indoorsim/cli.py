@@ -47,9 +47,9 @@ from indoorsim.scenario import (
 )
 
 if TYPE_CHECKING:
+    from indoorsim.fingerprints import FingerprintDB
     from indoorsim.phone.devices import DeviceProfile
     from indoorsim.recording import Recording
-    from indoorsim.survey import FingerprintDB
 
     _Subparsers: TypeAlias = argparse._SubParsersAction[argparse.ArgumentParser]
 

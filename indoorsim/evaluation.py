@@ -29,10 +29,11 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from indoorsim.estimators.base import Estimator, SiteContext, StartInfo
+from indoorsim.fingerprints import FingerprintDB
 from indoorsim.recording import Recording
 from indoorsim.scenario import GridSurveySpec, WalkSurveySpec
 from indoorsim.simulate import ModeSchedule, simulate
-from indoorsim.survey import FingerprintDB, grid_survey, walk_survey
+from indoorsim.survey import grid_survey, walk_survey
 from indoorsim.windows import Windower
 from indoorsim.world.magnetic import earth_field_enu
 from indoorsim.world.site import Site
@@ -133,13 +134,27 @@ def true_positions_at(recording: Recording, t: NDArray[np.float64]) -> NDArray[n
     return np.column_stack([np.interp(t, ts, truth[c].to_numpy(dtype=float)) for c in ("x", "y")])
 
 
+def true_headings_at(recording: Recording, t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(N,) true walking direction at times t, rad (interpolated on the unwrapped angle)."""
+    truth = recording.truth
+    ts = truth.index.to_numpy(dtype=float)
+    unwrapped = np.unwrap(truth["heading"].to_numpy(dtype=float))
+    return np.angle(np.exp(1j * np.interp(t, ts, unwrapped)))
+
+
 @dataclass(frozen=True, kw_only=True)
 class EpisodeResult:
-    """One scored episode: per window, the time, the estimate and the latency of ``act``."""
+    """One episode: per window, the time, the estimate and the latency of ``act``.
+
+    ``heading`` (rad, NaN where the estimator exposes none) and ``step_count``
+    (None if it exposes none) come from the estimator's optional attributes.
+    """
 
     t: NDArray[np.float64]
     estimate: NDArray[np.float64]
     latency_s: NDArray[np.float64]
+    heading: NDArray[np.float64]
+    step_count: int | None = None
 
     def frame(self) -> pd.DataFrame:
         x, y = self.estimate.T
@@ -156,6 +171,7 @@ def run_episode(
     t = np.empty(n)
     est = np.empty((n, 2))
     lat = np.empty(n)
+    heading = np.full(n, np.nan)
     for k in range(n):
         obs = windows.window(k)
         t0 = time.perf_counter()
@@ -169,7 +185,17 @@ def run_episode(
             )
         est[k] = action
         t[k] = windows.end_time(k)
-    return EpisodeResult(t=t, estimate=est, latency_s=lat)
+        h = getattr(estimator, "heading", None)
+        if h is not None:
+            heading[k] = float(h)
+    steps = getattr(estimator, "step_count", None)
+    return EpisodeResult(
+        t=t,
+        estimate=est,
+        latency_s=lat,
+        heading=heading,
+        step_count=None if steps is None else int(steps),
+    )
 
 
 def fit_timed(estimator: Estimator, context: SiteContext, train: Sequence[Recording]) -> float:

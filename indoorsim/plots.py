@@ -1062,27 +1062,19 @@ def plot_recording_streams(rec: Recording) -> Figure:
 
 
 def _scenario_site(name: object) -> Site | None:
-    """The bundled scenario called ``name`` (its file name or its ``name:`` key), as a Site.
+    """The bundled scenario a recording's manifest names, as a Site; None if there is none.
 
-    Recordings name their scenario by its ``name:`` key, which need not be the
-    bundled file's name. None when no bundled scenario has that name or it
-    does not load.
+    Bundled scenarios are named as their files, so the manifest's name is the key.
     """
     from indoorsim.world.site import Site
 
-    if not isinstance(name, str):
-        return None
     bundled = bundled_scenarios()
-    # A file name is the cheap guess; otherwise every scenario's own name is read.
-    paths = [bundled[name]] if name in bundled else list(bundled.values())
-    for path in paths:
-        try:
-            scenario = load_scenario(path)
-        except ScenarioError:
-            continue
-        if name in bundled or scenario.name == name:
-            return Site(scenario)
-    return None
+    if not isinstance(name, str) or name not in bundled:
+        return None
+    try:
+        return Site(load_scenario(bundled[name]))
+    except ScenarioError:
+        return None
 
 
 def _visits(

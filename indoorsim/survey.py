@@ -25,10 +25,6 @@ columns ``x``, ``y`` and feature columns, plus metadata (device, spacing, frame)
 
 from __future__ import annotations
 
-import json
-import os
-from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -36,7 +32,7 @@ import pandas as pd
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from indoorsim.atomic import write_folder
+from indoorsim.fingerprints import FingerprintDB
 from indoorsim.phone.devices import DeviceProfile, get_device
 from indoorsim.phone.fused import fuse
 from indoorsim.phone.kinematics import normal_gravity
@@ -53,64 +49,8 @@ from indoorsim.phone.sensors import (
 from indoorsim.scenario import GridSurveySpec, WalkSurveySpec
 from indoorsim.world.site import Site
 
-_DB_FILE = "fingerprints.json"
-_FORMAT_VERSION = 1
 # Child streams of a survey's SeedSequence, by name (append only).
 _STREAMS = ("errors", "noise", "wifi_times", "wifi", "walk", "hand")
-
-
-@dataclass(kw_only=True)
-class FingerprintDB:
-    """Fingerprint tables of one survey.
-
-    Attributes:
-        tables: named tables; each has ``x``, ``y`` (building frame, m) and feature columns.
-        meta: JSON-able description: scenario, survey kind, device, spacing, frames, seed.
-    """
-
-    tables: dict[str, pd.DataFrame]
-    meta: dict[str, Any] = field(default_factory=dict)
-
-    def __getitem__(self, name: str) -> pd.DataFrame:
-        if name not in self.tables:
-            raise KeyError(
-                f"fingerprint database has no table {name!r}; tables are {sorted(self.tables)}"
-            )
-        return self.tables[name]
-
-    def save(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
-        """Write the tables as Parquet files plus ``fingerprints.json``, atomically."""
-
-        def write(folder: Path) -> None:
-            for name, df in self.tables.items():
-                df.to_parquet(folder / f"{name}.parquet", index=False)
-            doc = {"format_version": _FORMAT_VERSION, "tables": sorted(self.tables), **self.meta}
-            (folder / _DB_FILE).write_text(json.dumps(doc, indent=2, allow_nan=False) + "\n")
-
-        return write_folder(
-            Path(path),
-            write,
-            overwrite=overwrite,
-            is_ours=_is_db_folder,
-            what="fingerprint database",
-        )
-
-    @classmethod
-    def load(cls, path: str | os.PathLike[str]) -> FingerprintDB:
-        """Read a folder written by :meth:`save`."""
-        folder = Path(path)
-        if not _is_db_folder(folder):
-            raise FileNotFoundError(
-                f"{folder} is not an indoorsim fingerprint database (no {_DB_FILE})"
-            )
-        doc = json.loads((folder / _DB_FILE).read_text())
-        names = doc.pop("tables")
-        doc.pop("format_version")
-        return cls(tables={n: pd.read_parquet(folder / f"{n}.parquet") for n in names}, meta=doc)
-
-
-def _is_db_folder(path: Path) -> bool:
-    return (path / _DB_FILE).is_file()
 
 
 def survey_streams(seed: int) -> dict[str, np.random.Generator]:

@@ -17,10 +17,11 @@ import indoorsim.cli
 import indoorsim.plots
 from indoorsim import load_site
 from indoorsim.cli import main
+from indoorsim.fingerprints import FingerprintDB
 from indoorsim.phone.devices import available_devices
 from indoorsim.recording import Recording
 from indoorsim.scenario import bundled_scenarios, load_scenario
-from indoorsim.survey import FingerprintDB, grid_points
+from indoorsim.survey import grid_points
 from tests.conftest import SHARED
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 import indoorsim
+from indoorsim.fingerprints import FingerprintDB
 from indoorsim.scenario import GridSurveySpec, WalkSurveySpec
-from indoorsim.survey import FingerprintDB, grid_points, grid_survey, walk_survey
+from indoorsim.survey import grid_points, grid_survey, walk_survey
 
 
 @pytest.fixture(scope="module")

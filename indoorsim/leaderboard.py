@@ -1,0 +1,261 @@
+"""Runs estimators through the evaluation protocol and writes the leaderboards.
+
+:func:`evaluate` scores one estimator on one scenario and carrying mode over
+several seeds (per-walk estimates beside the truth, and metrics).
+:func:`evaluate_recording` does the same for a real recording, scored where it
+carries true positions. :func:`write_leaderboards` regenerates ``leaderboards/``:
+per scenario a Markdown table and a CSV (rows = estimator × mode; mean and
+spread over seeds; provenance columns), error-CDF and trajectory plots, a
+real-data table, and ``README.md`` assembled from those tables and the
+hand-written ``leaderboards/commentary.md``.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+import indoorsim
+from indoorsim import metrics
+from indoorsim.estimators.base import make
+from indoorsim.evaluation import (
+    EpisodeResult,
+    fit_timed,
+    run_episode,
+    site_context,
+    start_info,
+    training_walks,
+    true_headings_at,
+    true_positions_at,
+)
+from indoorsim.recording import Recording
+from indoorsim.simulate import simulate
+from indoorsim.world.site import Site
+
+REPO = Path(__file__).resolve().parents[1]
+Progress = Callable[[str], None]
+
+
+def env_id(scenario: str) -> str:
+    """Gymnasium id of a scenario: ``han2023_corridor`` → ``indoorsim/Han2023Corridor-v0``."""
+    return "indoorsim/" + "".join(part.capitalize() for part in scenario.split("_")) + "-v0"
+
+
+def git_revision() -> str:
+    """The repository's commit (with ``-dirty`` for local changes), or ``unknown``."""
+    try:
+        rev = subprocess.run(
+            ["git", "-C", str(REPO), "describe", "--always", "--dirty", "--abbrev=12"],
+            capture_output=True,
+            text=True,
+            check=True,
+            timeout=10,
+        ).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return rev or "unknown"
+
+
+@dataclass(kw_only=True)
+class WalkResult:
+    """One scored walk: estimates beside the truth, and its metrics."""
+
+    seed: int
+    estimates: pd.DataFrame  # t, x, y, true_x, true_y
+    metrics: dict[str, float]
+
+
+@dataclass(kw_only=True)
+class Evaluation:
+    """An estimator on one scenario × mode over several seeds."""
+
+    estimator: str
+    scenario: str
+    mode: str
+    config: dict[str, Any]
+    walks: list[WalkResult] = field(default_factory=list)
+
+    def row(self) -> dict[str, Any]:
+        """The leaderboard row: aggregate metrics and provenance."""
+        agg = metrics.aggregate([w.metrics for w in self.walks])
+        return {
+            "scenario": self.scenario,
+            "mode": self.mode,
+            "estimator": self.estimator,
+            **agg,
+            **self.config,
+        }
+
+
+def _score(
+    result: EpisodeResult, rec: Recording, *, plan: Any, train_time_s: float
+) -> dict[str, float]:
+    """Metrics of one simulated walk; heading and step count when the estimator exposes them."""
+    truth_xy = true_positions_at(rec, result.t)
+    extra: dict[str, Any] = {}
+    has_heading = np.isfinite(result.heading)
+    if has_heading.any():
+        extra["est_heading"] = np.degrees(result.heading[has_heading])
+        extra["true_heading"] = np.degrees(true_headings_at(rec, result.t[has_heading]))
+    if result.step_count is not None:
+        in_episode = (rec.steps.index >= result.t[0] - 1e-9) & (rec.steps.index <= result.t[-1])
+        extra["n_steps_est"] = result.step_count
+        extra["n_steps_true"] = int(in_episode.sum())
+    return metrics.summarize(
+        result.estimate,
+        truth_xy,
+        plan=plan,
+        latencies=result.latency_s,
+        train_time_s=train_time_s,
+        **extra,
+    )
+
+
+def evaluate(
+    estimator: str,
+    scenario: str | Site,
+    *,
+    mode: str = "handheld",
+    seeds: Sequence[int] = (0, 1, 2),
+    route: str | None = None,
+    device: str = "nexus_5x",
+    survey_device: str = "honor_50",
+    window_s: float = 1.0,
+    n_train: int = 2,
+    progress: Progress | None = None,
+) -> Evaluation:
+    """Score ``estimator`` (a registered name or ``module:Class``) over ``seeds``."""
+    site = scenario if isinstance(scenario, Site) else indoorsim.load_site(scenario)
+    route = route or next(iter(site.scenario.routes))
+    ctx = site_context(site, device=device, survey_device=survey_device, window_s=window_s)
+    est = make(estimator)
+    train = training_walks(site, route, mode=mode, device=device, n=n_train)
+    train_s = fit_timed(est, ctx, train)
+    config = {
+        "env_id": env_id(site.name),
+        "route": route,
+        "device": device,
+        "survey_device": survey_device,
+        "window_s": window_s,
+        "n_train": n_train,
+        "package_version": indoorsim.__version__,
+        "git_revision": git_revision(),
+    }
+    ev = Evaluation(estimator=estimator, scenario=site.name, mode=mode, config=config)
+    for seed in seeds:
+        if progress:
+            progress(f"{site.name} {mode} {estimator} seed {seed}")
+        rec = simulate(site, route=route, mode=mode, device=device, seed=seed)
+        res = run_episode(est, rec, ctx, start_info(rec, seed))
+        truth_xy = true_positions_at(rec, res.t)
+        frame = res.frame().drop(columns="latency_s")
+        frame["true_x"], frame["true_y"] = truth_xy[:, 0], truth_xy[:, 1]
+        score = _score(res, rec, plan=site.plan, train_time_s=train_s)
+        ev.walks.append(WalkResult(seed=seed, estimates=frame, metrics=score))
+    return ev
+
+
+def evaluate_recording(
+    estimator: str, recording: Recording, *, window_s: float = 1.0
+) -> WalkResult:
+    """Run ``estimator`` on a real recording and score it at the recording's true positions.
+
+    The site context of a real log has no floor plan or surveys: the estimator
+    gets the start (first waypoint, heading toward the second) and the
+    recording's own WiFi APs. Estimates are linearly interpolated to the
+    waypoint times for scoring.
+    """
+    rate = 1.0 / float(np.median(np.diff(recording.accel.index.to_numpy(dtype=float))))
+    bssids = tuple(sorted(set(recording.wifi["bssid"]))) if "wifi" in recording.streams else ()
+    from indoorsim.estimators.base import SiteContext
+
+    site = recording.meta.get("site")
+    ctx = SiteContext(
+        name=str(site.get("site_name", "real")) if isinstance(site, dict) else "real",
+        bssids=bssids,
+        device=str(recording.meta.get("device", "")),
+        imu_rate_hz=rate,
+        window_samples=max(1, round(rate * window_s)),
+    )
+    est = make(estimator)
+    est.fit(ctx, [])
+    res = run_episode(est, recording, ctx, start_info(recording))
+    truth = recording.true_positions()
+    t_true = truth.index.to_numpy(dtype=float)
+    keep = (t_true >= res.t[0]) & (t_true <= res.t[-1])
+    t_true = t_true[keep]
+    est_at = np.column_stack([np.interp(t_true, res.t, res.estimate[:, i]) for i in range(2)])
+    true_xy = truth[["x", "y"]].to_numpy(dtype=float)[keep]
+    frame = pd.DataFrame(
+        {
+            "t": t_true,
+            "x": est_at[:, 0],
+            "y": est_at[:, 1],
+            "true_x": true_xy[:, 0],
+            "true_y": true_xy[:, 1],
+        }
+    )
+    return WalkResult(
+        seed=0, estimates=frame, metrics=metrics.summarize(est_at, true_xy, latencies=res.latency_s)
+    )
+
+
+# ----------------------------------------------------------------------- writing
+
+
+METRIC_COLUMNS = ("ae", "rmse", "me", "min", "sd", "cep50", "cep75", "cep95")
+
+
+def markdown_table(rows: pd.DataFrame, columns: Sequence[str] = METRIC_COLUMNS) -> str:
+    """A Markdown table of ``estimator × mode`` rows with ``mean ± std`` cells (metres)."""
+    head = ["estimator", "mode", "seeds", *columns]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for _, r in rows.iterrows():
+        cells = [str(r["estimator"]), str(r["mode"]), str(int(r["seeds"]))]
+        for c in columns:
+            std = r.get(f"{c}_std", np.nan)
+            cells.append(
+                f"{r[c]:.2f} ± {std:.2f}" if np.isfinite(std) and r["seeds"] > 1 else f"{r[c]:.2f}"
+            )
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def write_walks(ev: Evaluation, out: Path) -> None:
+    """Per walk: ``estimates.csv`` (t, x, y, true_x, true_y) and ``metrics.csv``."""
+    for w in ev.walks:
+        folder = out / f"{ev.scenario}_{ev.mode}_{ev.estimator}_seed{w.seed}"
+        folder.mkdir(parents=True, exist_ok=True)
+        w.estimates.to_csv(folder / "estimates.csv", index=False)
+        pd.DataFrame([w.metrics]).to_csv(folder / "metrics.csv", index=False)
+
+
+def write_scenario(evals: Sequence[Evaluation], out: Path, site: Site) -> pd.DataFrame:
+    """CSV, Markdown and plots for one scenario's evaluations; returns its rows."""
+    from indoorsim.plots import plot_error_cdfs, plot_tracks
+
+    rows = pd.DataFrame([ev.row() for ev in evals])
+    name = site.name
+    rows.to_csv(out / f"{name}.csv", index=False)
+    (out / f"{name}.md").write_text(
+        f"# {name}\n\nPosition error in metres.\n\n{markdown_table(rows)}\n"
+    )
+    plot_error_cdfs(evals).savefig(out / f"{name}_cdf.png", dpi=120, bbox_inches="tight")
+    plot_tracks(evals, site).savefig(out / f"{name}_tracks.png", dpi=120, bbox_inches="tight")
+    return rows
+
+
+def write_provenance(out: Path, config: dict[str, Any]) -> None:
+    doc = {
+        "package_version": indoorsim.__version__,
+        "git_revision": git_revision(),
+        **config,
+    }
+    (out / "provenance.json").write_text(json.dumps(doc, indent=2) + "\n")
