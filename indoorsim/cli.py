@@ -652,6 +652,202 @@ def _run_plot_recording(args: argparse.Namespace) -> int:
     return 0
 
 
+# -------------------------------------------------------------------- evaluate
+
+
+def _thresholds(text: str) -> dict[str, float]:
+    """``ae=1.5,cep95=3`` → ``{"ae": 1.5, "cep95": 3.0}`` (metric names as in the CSVs)."""
+    from indoorsim.metrics import SUMMARY_KEYS
+
+    out: dict[str, float] = {}
+    for item in text.split(","):
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or name not in SUMMARY_KEYS:
+            raise argparse.ArgumentTypeError(
+                f"{item!r}: expected METRIC=VALUE with METRIC one of {', '.join(SUMMARY_KEYS)}"
+            )
+        try:
+            out[name] = float(value)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{item!r}: {value!r} is not a number") from None
+    return out
+
+
+def _add_evaluate(subparsers: _Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "evaluate",
+        help="score one estimator on a scenario (or a real recording)",
+        description="Run an estimator through the evaluation protocol: site context and "
+        "training walks, then one test walk per seed. Writes per walk estimates.csv "
+        "(t, x, y, true_x, true_y) and metrics.csv, and a summary.csv. With --fail-above "
+        "the exit status is 3 when any named metric (mean over seeds) is worse than its "
+        "threshold: the CI use case.",
+    )
+    parser.add_argument(
+        "--estimator", required=True, metavar="NAME", help="a registered name or module:Class"
+    )
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument("--scenario", metavar="NAME_OR_PATH", help="a scenario to simulate")
+    source.add_argument(
+        "--recording",
+        type=Path,
+        metavar="PATH",
+        help="a recording (indoorsim folder or a real log) scored at its true positions",
+    )
+    parser.add_argument("--mode", default="handheld", help="carrying mode (default handheld)")
+    parser.add_argument("--route", default=None, help="test route (default: the first)")
+    parser.add_argument("--seeds", type=_seed, default=3, metavar="N", help="test seeds 0..N-1")
+    parser.add_argument("--device", default="nexus_5x", help="walking phone (default nexus_5x)")
+    parser.add_argument(
+        "--survey-device", default="honor_50", help="survey phone (default honor_50)"
+    )
+    parser.add_argument(
+        "--window", type=_positive(float), default=1.0, metavar="S", help="window length, s"
+    )
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR")
+    parser.add_argument(
+        "--fail-above",
+        type=_thresholds,
+        default={},
+        metavar="M=V,...",
+        help="exit 3 if any of these metrics exceeds its value, e.g. ae=1.5,cep95=3",
+    )
+    parser.set_defaults(handler=_run_evaluate)
+
+
+def _run_evaluate(args: argparse.Namespace) -> int:
+    import pandas as pd
+
+    from indoorsim import leaderboard
+    from indoorsim.estimators.base import UnknownEstimatorError, make
+    from indoorsim.recording import Recording, RecordingError
+
+    if args.out.exists() and not args.out.is_dir():
+        raise CliError(f"--out {args.out}: exists and is not a folder")
+    try:
+        make(args.estimator)
+    except UnknownEstimatorError as err:
+        raise CliError(f"--estimator: {err}") from None
+    args.out.mkdir(parents=True, exist_ok=True)
+    if args.recording is not None:
+        try:
+            rec = Recording.load(args.recording)
+        except (RecordingError, OSError) as err:
+            raise CliError(f"--recording {args.recording}: {err}") from None
+        with _working(f"evaluating {args.estimator}"):
+            walk = leaderboard.evaluate_recording(args.estimator, rec, window_s=args.window)
+        walk.estimates.to_csv(args.out / "estimates.csv", index=False)
+        summary = pd.DataFrame([{"estimator": args.estimator, **walk.metrics}])
+    else:
+        scenario = load_scenario(resolve_scenario(args.scenario))
+        from indoorsim.world.site import Site
+
+        site = Site(scenario)
+        if args.route is not None and args.route not in scenario.routes:
+            raise CliError(f"--route {args.route}: routes are {', '.join(scenario.routes)}")
+        from indoorsim.walker.carry import available_modes
+
+        if args.mode not in available_modes():
+            raise CliError(f"--mode {args.mode}: modes are {', '.join(available_modes())}")
+        _device(args.device)
+        _device(args.survey_device)
+        from tqdm import tqdm
+
+        with tqdm(total=args.seeds, desc=args.estimator, disable=None, file=sys.stderr) as bar:
+            ev = leaderboard.evaluate(
+                args.estimator,
+                site,
+                mode=args.mode,
+                seeds=tuple(range(args.seeds)),
+                route=args.route,
+                device=args.device,
+                survey_device=args.survey_device,
+                window_s=args.window,
+                progress=lambda _msg: bar.update(0),
+            )
+            bar.update(args.seeds)
+        leaderboard.write_walks(ev, args.out)
+        summary = pd.DataFrame([ev.row()])
+    summary.to_csv(args.out / "summary.csv", index=False)
+    shown = [c for c in ("ae", "rmse", "me", "cep50", "cep95") if c in summary]
+    print(summary[["estimator", *shown]].to_string(index=False, float_format=lambda v: f"{v:.2f}"))
+    worse = {
+        k: float(summary[k].iloc[0])
+        for k, limit in args.fail_above.items()
+        if not float(summary[k].iloc[0]) <= limit  # NaN counts as worse
+    }
+    if worse:
+        for k, v in worse.items():
+            print(f"indoorsim: {k} = {v:.3f} exceeds {args.fail_above[k]:g}", file=sys.stderr)
+        return 3
+    return 0
+
+
+# ----------------------------------------------------------------- leaderboard
+
+
+def _add_leaderboard(subparsers: _Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "leaderboard",
+        help="regenerate the leaderboards (tables, CSVs, plots)",
+        description="Evaluate the estimators on the bundled paper scenarios in every carrying "
+        "mode over several seeds, and write per scenario a Markdown table, a CSV with "
+        "provenance, CDF and track plots, plus the real-data table and README.md.",
+    )
+    parser.add_argument(
+        "--scenario", action="append", metavar="NAME", help="only these scenarios (repeatable)"
+    )
+    parser.add_argument(
+        "--estimator", action="append", metavar="NAME", help="only these estimators (repeatable)"
+    )
+    parser.add_argument("--quick", action="store_true", help="one seed, two modes, no real data")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("leaderboards"),
+        metavar="DIR",
+        help="default leaderboards/",
+    )
+    parser.set_defaults(handler=_run_leaderboard)
+
+
+def _run_leaderboard(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from tqdm import tqdm
+
+    from indoorsim import leaderboard
+    from indoorsim.estimators.base import available
+
+    if args.out.exists() and not args.out.is_dir():
+        raise CliError(f"--out {args.out}: exists and is not a folder")
+    known = bundled_scenarios()
+    for name in args.scenario or ():
+        if name not in known:
+            raise CliError(f"--scenario {name}: bundled scenarios are {', '.join(known)}")
+    for name in args.estimator or ():
+        if name not in available():
+            raise CliError(f"--estimator {name}: available are {', '.join(available())}")
+    config = (
+        leaderboard.BoardConfig.quick(args.scenario)
+        if args.quick
+        else leaderboard.BoardConfig(
+            **({"scenarios": tuple(args.scenario)} if args.scenario else {})
+        )
+    )
+    if args.estimator:
+        config = dataclasses.replace(config, estimators=tuple(args.estimator))
+    with tqdm(desc="leaderboard", disable=None, file=sys.stderr) as bar:
+        tables = leaderboard.run_leaderboard(
+            config, args.out, progress=lambda msg: (bar.set_postfix_str(msg), bar.update(1))
+        )
+    for name, table in tables.items():
+        print(f"\n## {name}\n\n{leaderboard.markdown_table(table)}")
+    print(f"\nwrote {args.out}/")
+    return 0
+
+
 _PLOT_TARGETS: tuple[Callable[[_Subparsers], None], ...] = (_add_plot_site, _add_plot_recording)
 """What ``indoorsim plot`` can draw; each entry adds one ``plot <target>`` subcommand."""
 
@@ -659,6 +855,8 @@ _COMMANDS: tuple[Callable[[_Subparsers], None], ...] = (
     _add_scenarios,
     _add_simulate,
     _add_survey,
+    _add_evaluate,
+    _add_leaderboard,
     _add_plot,
 )
 """The subcommands, in the order ``indoorsim --help`` lists them."""

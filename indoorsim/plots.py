@@ -35,7 +35,7 @@ import textwrap
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib import colormaps
@@ -1345,3 +1345,74 @@ def save_recording_plots(
     if _has_rows(rec, "truth") or _has_rows(rec, "waypoints"):
         figures["track"] = plot_recording_track(rec, site)
     return save_figures(figures, out, name, dpi)
+
+
+# ----------------------------------------------------------------- leaderboards
+
+
+def _estimator_colours(names: Iterable[str]) -> dict[str, str]:
+    cycle = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"]
+    return {n: cycle[i % len(cycle)] for i, n in enumerate(dict.fromkeys(names))}
+
+
+def plot_error_cdfs(evaluations: Sequence[Any]) -> Figure:
+    """Error CDFs of several evaluations: one panel per carrying mode, one curve per estimator.
+
+    Args:
+        evaluations: :class:`indoorsim.leaderboard.Evaluation` objects of one
+            scenario; each curve pools the errors of all its seeds.
+    """
+    from indoorsim.metrics import error_cdf, position_errors
+
+    modes = list(dict.fromkeys(ev.mode for ev in evaluations))
+    colours = _estimator_colours(ev.estimator for ev in evaluations)
+    fig = Figure(figsize=(4.2 * len(modes), 3.6), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, len(modes), squeeze=False, sharey=True)[0]
+    for ax, mode in zip(axes, modes, strict=True):
+        for ev in (e for e in evaluations if e.mode == mode):
+            err = np.concatenate(
+                [
+                    position_errors(w.estimates[["x", "y"]], w.estimates[["true_x", "true_y"]])
+                    for w in ev.walks
+                ]
+            )
+            x, f = error_cdf(err)
+            ax.step(x, f, where="post", color=colours[ev.estimator], label=ev.estimator)
+        ax.set_title(mode)
+        ax.set_xlabel("position error (m)")
+        ax.set_xlim(left=0)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("fraction of windows")
+    axes[0].legend(loc="lower right", fontsize="small")
+    fig.suptitle(f"{evaluations[0].scenario}: error CDF over all seeds")
+    return fig
+
+
+def plot_tracks(evaluations: Sequence[Any], site: Site) -> Figure:
+    """Estimated tracks beside the truth on the floor plan, first seed, one panel per mode."""
+    modes = list(dict.fromkeys(ev.mode for ev in evaluations))
+    colours = _estimator_colours(ev.estimator for ev in evaluations)
+    xmin, ymin, xmax, ymax = site.plan.bounds
+    aspect = (ymax - ymin) / max(xmax - xmin, 1e-3)
+    width = 5.5
+    fig = Figure(figsize=(width * len(modes), max(3.0, width * aspect) + 1.0), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, len(modes), squeeze=False)[0]
+    for ax, mode in zip(axes, modes, strict=True):
+        draw_plan(ax, site.plan, legend=False)
+        truth_drawn = False
+        for ev in (e for e in evaluations if e.mode == mode):
+            if not ev.walks:
+                continue
+            walk = ev.walks[0].estimates
+            if not truth_drawn:
+                ax.plot(walk["true_x"], walk["true_y"], color="black", lw=2.0, label="truth")
+                truth_drawn = True
+            ax.plot(walk["x"], walk["y"], color=colours[ev.estimator], lw=1.2, label=ev.estimator)
+        ax.set_title(f"{mode} (seed {evaluations[0].walks[0].seed})")
+        ax.set_xlim(xmin - 5, xmax + 5)
+        ax.set_ylim(ymin - 5, ymax + 5)
+    axes[0].legend(loc="best", fontsize="small")
+    fig.suptitle(f"{site.name}: estimated tracks")
+    return fig
