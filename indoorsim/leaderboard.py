@@ -24,6 +24,7 @@ import pandas as pd
 
 import indoorsim
 from indoorsim import metrics
+from indoorsim.envs import env_id
 from indoorsim.estimators.base import make
 from indoorsim.evaluation import (
     EpisodeResult,
@@ -41,11 +42,6 @@ from indoorsim.world.site import Site
 
 REPO = Path(__file__).resolve().parents[1]
 Progress = Callable[[str], None]
-
-
-def env_id(scenario: str) -> str:
-    """Gymnasium id of a scenario: ``han2023_corridor`` → ``indoorsim/Han2023Corridor-v0``."""
-    return "indoorsim/" + "".join(part.capitalize() for part in scenario.split("_")) + "-v0"
 
 
 def git_revision() -> str:

@@ -114,7 +114,7 @@ class Windower:
         self.present = np.array(
             [int(name in streams and len(streams[name]) > 0) for name in PRESENT_ORDER], np.int8
         )
-        self._aligned: dict[str, NDArray] = {"accel": accel[["x", "y", "z"]].to_numpy(dtype=float)}
+        aligned: dict[str, NDArray] = {"accel": accel[["x", "y", "z"]].to_numpy(dtype=float)}
         for name, cols, width in (
             ("gyro", ["x", "y", "z"], 3),
             ("mag", ["x", "y", "z"], 3),
@@ -137,10 +137,47 @@ class Windower:
                 fresh = (idx > prev).astype(np.int8)
             if name in ("rotation", "game_rotation") and (df is None or not len(df)):
                 values[:, 0] = 1.0  # identity, not an invalid zero quaternion
-            self._aligned[name] = values[:, 0] if width == 1 else values
+            aligned[name] = values[:, 0] if width == 1 else values
             if name in ("mag", "light"):  # the slow sensors: their timing matters
-                self._aligned[f"{name}_fresh"] = fresh
-        self._wifi = self._scans(streams.get("wifi"))
+                aligned[f"{name}_fresh"] = fresh
+        # Every window is cut here, once, so that window(k) only copies: an
+        # environment step or an estimator's loop costs a few microseconds.
+        self._n_windows = -(-n // samples)
+        slot = np.arange(self._n_windows * samples)
+        at = np.minimum(slot, n - 1)  # the last window's padding repeats its last sample
+        shape = (self._n_windows, samples)
+        self._blocks: dict[str, NDArray] = {
+            "t": self.t[at].reshape(shape),
+            "valid": (slot < n).astype(np.int8).reshape(shape),
+        }
+        for name, values in aligned.items():
+            self._blocks[name] = values[at].reshape(shape + values.shape[1:])
+        self._blocks.update(self._wifi_windows(streams.get("wifi")))
+
+    def _wifi_windows(self, wifi: object) -> dict[str, NDArray]:
+        """The WiFi entries of every window: the latest scan at or before the window's end.
+
+        Returns ``wifi_rss`` and ``wifi_heard`` of shape (N, A), ``wifi_fresh``
+        and ``wifi_age`` of shape (N, 1), for N windows and A APs.
+        """
+        scan_t, rss, heard = self._scans(wifi)
+        last = np.minimum(np.arange(1, self._n_windows + 1) * self.samples, len(self.t)) - 1
+        t_end = self.t[last]
+        # A scan is fresh when it arrived after the previous window's last sample.
+        t_prev = np.r_[-np.inf, t_end[:-1]]
+        s = np.searchsorted(scan_t, t_end, side="right") - 1
+        got = s >= 0
+        out = {
+            "wifi_rss": np.full((self._n_windows, len(self.bssids)), NO_SIGNAL_DBM),
+            "wifi_heard": np.zeros((self._n_windows, len(self.bssids)), np.int8),
+            "wifi_fresh": np.zeros((self._n_windows, 1), np.int8),
+            "wifi_age": np.full((self._n_windows, 1), MAX_AGE_S),
+        }
+        out["wifi_rss"][got] = rss[s[got]]
+        out["wifi_heard"][got] = heard[s[got]]
+        out["wifi_fresh"][got, 0] = scan_t[s[got]] > t_prev[got]
+        out["wifi_age"][got, 0] = np.minimum(t_end[got] - scan_t[s[got]], MAX_AGE_S)
+        return out
 
     def _scans(
         self, wifi: object
@@ -161,41 +198,17 @@ class Windower:
         return scan_t, rss, heard
 
     def __len__(self) -> int:
-        return -(-len(self.t) // self.samples)
+        return self._n_windows
 
     def end_time(self, k: int) -> float:
         """Time of window k's last real sample, s."""
         return float(self.t[min((k + 1) * self.samples, len(self.t)) - 1])
 
     def window(self, k: int) -> Observation:
-        """Observation k (0-based)."""
-        if not 0 <= k < len(self):
+        """Observation k (0-based): fresh arrays, which the caller may keep or modify."""
+        if not 0 <= k < self._n_windows:
             raise IndexError(f"window {k} out of range: the recording has {len(self)} windows")
-        lo = k * self.samples
-        hi = min(lo + self.samples, len(self.t))
-        idx = np.minimum(np.arange(lo, lo + self.samples), hi - 1)  # pad by repeating the last
-        obs: Observation = {
-            "t": self.t[idx],
-            "valid": (np.arange(lo, lo + self.samples) < hi).astype(np.int8),
-        }
-        for name, values in self._aligned.items():
-            obs[name] = values[idx]
-        t_end = self.t[hi - 1]
-        scan_t, rss, heard = self._wifi
-        s = int(np.searchsorted(scan_t, t_end, side="right")) - 1
-        a = len(self.bssids)
-        if s >= 0:
-            obs["wifi_rss"] = rss[s].copy()
-            obs["wifi_heard"] = heard[s].copy()
-            obs["wifi_fresh"] = np.array(
-                [int(scan_t[s] > (self.t[lo - 1] if lo > 0 else -np.inf))], np.int8
-            )
-            obs["wifi_age"] = np.array([min(t_end - scan_t[s], MAX_AGE_S)])
-        else:
-            obs["wifi_rss"] = np.full(a, NO_SIGNAL_DBM)
-            obs["wifi_heard"] = np.zeros(a, np.int8)
-            obs["wifi_fresh"] = np.zeros(1, np.int8)
-            obs["wifi_age"] = np.array([MAX_AGE_S])
+        obs = {name: block[k].copy() for name, block in self._blocks.items()}
         obs["present"] = self.present.copy()
         return obs
 
