@@ -43,6 +43,7 @@ from indoorsim.windows import Observation
 __all__ = [
     "ENTRY_POINT_GROUP",
     "Estimator",
+    "NotApplicableError",
     "Observation",
     "SiteContext",
     "StartInfo",
@@ -120,6 +121,14 @@ class Estimator(Protocol):
     def reset(self, start: StartInfo) -> None: ...
 
     def act(self, obs: Observation) -> NDArray[np.float64]: ...
+
+
+class NotApplicableError(ValueError):
+    """Raised by ``fit`` when a site lacks what the estimator needs (e.g. a grid survey).
+
+    The leaderboard records such an estimator as not applicable on that site,
+    with the message, instead of failing the run.
+    """
 
 
 class UnknownEstimatorError(LookupError):

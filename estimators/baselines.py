@@ -20,7 +20,13 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from indoorsim.estimators.base import Observation, SiteContext, StartInfo, register
+from indoorsim.estimators.base import (
+    NotApplicableError,
+    Observation,
+    SiteContext,
+    StartInfo,
+    register,
+)
 from indoorsim.estimators.fingerprint import WKNN
 from indoorsim.estimators.frames import to_world
 from indoorsim.estimators.pdr import WEINBERG_K, GyroHeading, PeakStepDetector, weinberg
@@ -187,7 +193,7 @@ class WknnMag:
             grids = {self.survey: grids[self.survey]} if self.survey in grids else {}
         if not grids:
             wanted = f"a grid survey named {self.survey!r}" if self.survey else "a grid survey"
-            raise ValueError(
+            raise NotApplicableError(
                 f"{self.name} needs {wanted} (a fingerprint database with a 'grid' table of "
                 f"{', '.join(_MAG_COLUMNS)}); site {site.name!r} has "
                 f"{sorted(site.fingerprints) or 'no fingerprint databases'}"

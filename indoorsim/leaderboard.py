@@ -25,7 +25,7 @@ import pandas as pd
 import indoorsim
 from indoorsim import metrics
 from indoorsim.envs import env_id
-from indoorsim.estimators.base import make
+from indoorsim.estimators.base import NotApplicableError, make
 from indoorsim.evaluation import (
     EpisodeResult,
     fit_timed,
@@ -77,15 +77,23 @@ class Evaluation:
     mode: str
     config: dict[str, Any]
     walks: list[WalkResult] = field(default_factory=list)
+    note: str = ""
+    """Why the estimator did not run here (it needs data the site lacks), else empty."""
 
     def row(self) -> dict[str, Any]:
-        """The leaderboard row: aggregate metrics and provenance."""
-        agg = metrics.aggregate([w.metrics for w in self.walks])
+        """The leaderboard row: aggregate metrics and provenance (NaN metrics when not run)."""
+        if self.walks:
+            agg = metrics.aggregate([w.metrics for w in self.walks])
+        else:
+            agg = {"seeds": 0} | {
+                k: np.nan for key in metrics.SUMMARY_KEYS for k in (key, f"{key}_std")
+            }
         return {
             "scenario": self.scenario,
             "mode": self.mode,
             "estimator": self.estimator,
             **agg,
+            "note": self.note,
             **self.config,
         }
 
@@ -133,7 +141,6 @@ def evaluate(
     ctx = site_context(site, device=device, survey_device=survey_device, window_s=window_s)
     est = make(estimator)
     train = training_walks(site, route, mode=mode, device=device, n=n_train)
-    train_s = fit_timed(est, ctx, train)
     config = {
         "env_id": env_id(site.name),
         "route": route,
@@ -145,6 +152,11 @@ def evaluate(
         "git_revision": git_revision(),
     }
     ev = Evaluation(estimator=estimator, scenario=site.name, mode=mode, config=config)
+    try:
+        train_s = fit_timed(est, ctx, train)
+    except NotApplicableError as err:
+        ev.note = str(err)
+        return ev
     for seed in seeds:
         if progress:
             progress(f"{site.name} {mode} {estimator} seed {seed}")
@@ -215,6 +227,9 @@ def markdown_table(rows: pd.DataFrame, columns: Sequence[str] = METRIC_COLUMNS) 
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for _, r in rows.iterrows():
         cells = [str(r["estimator"]), str(r["mode"]), str(int(r["seeds"]))]
+        if r["seeds"] == 0:  # not applicable on this site
+            lines.append("| " + " | ".join(cells + ["n/a"] * len(columns)) + " |")
+            continue
         for c in columns:
             std = r.get(f"{c}_std", np.nan)
             cells.append(

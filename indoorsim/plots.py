@@ -1370,7 +1370,7 @@ def plot_error_cdfs(evaluations: Sequence[Any]) -> Figure:
     FigureCanvasAgg(fig)
     axes = fig.subplots(1, len(modes), squeeze=False, sharey=True)[0]
     for ax, mode in zip(axes, modes, strict=True):
-        for ev in (e for e in evaluations if e.mode == mode):
+        for ev in (e for e in evaluations if e.mode == mode and e.walks):
             err = np.concatenate(
                 [
                     position_errors(w.estimates[["x", "y"]], w.estimates[["true_x", "true_y"]])
@@ -1410,7 +1410,7 @@ def plot_tracks(evaluations: Sequence[Any], site: Site) -> Figure:
                 ax.plot(walk["true_x"], walk["true_y"], color="black", lw=2.0, label="truth")
                 truth_drawn = True
             ax.plot(walk["x"], walk["y"], color=colours[ev.estimator], lw=1.2, label=ev.estimator)
-        ax.set_title(f"{mode} (seed {evaluations[0].walks[0].seed})")
+        ax.set_title(f"{mode} (first seed)")
         ax.set_xlim(xmin - 5, xmax + 5)
         ax.set_ylim(ymin - 5, ymax + 5)
     axes[0].legend(loc="best", fontsize="small")

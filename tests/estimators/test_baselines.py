@@ -13,6 +13,7 @@ from scipy.spatial.transform import Rotation
 import indoorsim
 from indoorsim.estimators.base import (
     Estimator,
+    NotApplicableError,
     SiteContext,
     StartInfo,
     UnknownEstimatorError,
@@ -119,12 +120,12 @@ def test_pdr_basic_without_fused_gravity_uses_the_accelerometer(
 
 def test_wknn_mag_needs_a_grid_survey() -> None:
     est = make("wknn-mag")
-    with pytest.raises(ValueError, match=r"needs a grid survey.*no fingerprint databases"):
+    with pytest.raises(NotApplicableError, match=r"needs a grid survey.*no fingerprint databases"):
         est.fit(SiteContext(name="bare"), [])
     with pytest.raises(RuntimeError, match="fit"):
         est.act({})
     named = make("wknn-mag", survey="other")
-    with pytest.raises(ValueError, match="grid survey named 'other'"):
+    with pytest.raises(NotApplicableError, match="grid survey named 'other'"):
         named.fit(SiteContext(name="bare"), [])
 
 
