@@ -146,15 +146,7 @@ def grid_survey(
         est = Rotation.from_quat(fused.rotation, scalar_first=True)
         mag_geo = est.apply(mag).mean(axis=0)  # phone frame → its own geographic frame
         _, lux = light_events(t, np.full(n, lux_true[k]), profile.light, noise)
-        scans = wifi_scans(spec.duration_s, profile.wifi, rngs["wifi_times"])
-        heard = scan_rss(
-            scans,
-            np.tile(rss_true[k], (len(scans), 1)),
-            site.radio.bssids,
-            profile.wifi,
-            rngs["wifi"],
-        )
-        rss = heard.groupby("bssid")["rss"].mean() if len(heard) else pd.Series(dtype=float)
+        _, rss = _static_wifi(site, rss_true[k], spec.duration_s, profile, rngs)
         row = {
             "x": pts[k, 0],
             "y": pts[k, 1],
@@ -164,12 +156,31 @@ def grid_survey(
             "mag_norm": float(np.linalg.norm(mag, axis=1).mean()),
             "lux": float(np.mean(lux)) if len(lux) else np.nan,
         }
-        row.update({f"rss_{b}": float(rss.get(b, np.nan)) for b in site.radio.bssids})
+        row.update(rss)
         rows.append(row)
     table = pd.DataFrame(rows)
     meta = _meta(site, "grid", profile, seed, spec.model_dump(mode="json"))
     meta["heading_deg"] = heading_deg
     return FingerprintDB(tables={"grid": table}, meta=meta)
+
+
+def _static_wifi(
+    site: Site,
+    rss_mean: NDArray[np.float64],
+    duration_s: float,
+    device: DeviceProfile,
+    rngs: dict[str, np.random.Generator],
+) -> tuple[int, dict[str, float]]:
+    """Scans of a phone held still for ``duration_s``: their count and the mean RSS per AP.
+
+    Columns ``rss_<bssid>``; NaN for an AP no scan heard.
+    """
+    scans = wifi_scans(duration_s, device.wifi, rngs["wifi_times"])
+    heard = scan_rss(
+        scans, np.tile(rss_mean, (len(scans), 1)), site.radio.bssids, device.wifi, rngs["wifi"]
+    )
+    mean = heard.groupby("bssid")["rss"].mean() if len(heard) else pd.Series(dtype=float)
+    return len(scans), {f"rss_{b}": float(mean.get(b, np.nan)) for b in site.radio.bssids}
 
 
 def _meta(
@@ -268,17 +279,8 @@ def walk_survey(
     rss_true = site.rss(np.column_stack([markers, np.full(len(markers), height)]))
     rows = []
     for k, point in enumerate(markers):
-        scans = wifi_scans(spec.wifi_dwell_s, profile.wifi, rngs["wifi_times"])
-        heard = scan_rss(
-            scans,
-            np.tile(rss_true[k], (len(scans), 1)),
-            site.radio.bssids,
-            profile.wifi,
-            rngs["wifi"],
-        )
-        rss = heard.groupby("bssid")["rss"].mean() if len(heard) else pd.Series(dtype=float)
-        row = {"ref": k, "x": point[0], "y": point[1], "scans": len(scans)}
-        row.update({f"rss_{b}": float(rss.get(b, np.nan)) for b in site.radio.bssids})
+        n_scans, rss = _static_wifi(site, rss_true[k], spec.wifi_dwell_s, profile, rngs)
+        row = {"ref": k, "x": point[0], "y": point[1], "scans": n_scans, **rss}
         rows.append(row)
     meta = _meta(site, "walk", profile, seed, spec.model_dump(mode="json"))
     meta["frame"]["magnetic"] = "phone frame (mag_*); b_h, b_v from the phone's fused gravity (µT)"
