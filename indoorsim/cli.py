@@ -735,8 +735,13 @@ def _run_evaluate(args: argparse.Namespace) -> int:
             rec = Recording.load(args.recording)
         except (RecordingError, OSError) as err:
             raise CliError(f"--recording {args.recording}: {err}") from None
-        with _working(f"evaluating {args.estimator}"):
-            walk = leaderboard.evaluate_recording(args.estimator, rec, window_s=args.window)
+        from indoorsim.estimators.base import NotApplicableError
+
+        try:
+            with _working(f"evaluating {args.estimator}"):
+                walk = leaderboard.evaluate_recording(args.estimator, rec, window_s=args.window)
+        except NotApplicableError as err:
+            raise CliError(f"--estimator {args.estimator}: not applicable here: {err}") from None
         walk.estimates.to_csv(args.out / "estimates.csv", index=False)
         summary = pd.DataFrame([{"estimator": args.estimator, **walk.metrics}])
     else:
@@ -767,6 +772,8 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                 progress=lambda _msg: bar.update(0),
             )
             bar.update(args.seeds)
+        if ev.note:
+            raise CliError(f"--estimator {args.estimator}: not applicable here: {ev.note}")
         leaderboard.write_walks(ev, args.out)
         summary = pd.DataFrame([ev.row()])
     summary.to_csv(args.out / "summary.csv", index=False)

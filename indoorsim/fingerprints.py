@@ -6,6 +6,7 @@ estimators can read fingerprint databases without importing the simulator.
 
 from __future__ import annotations
 
+import copy
 import json
 import os
 from dataclasses import dataclass, field
@@ -38,6 +39,13 @@ class FingerprintDB:
                 f"fingerprint database has no table {name!r}; tables are {sorted(self.tables)}"
             )
         return self.tables[name]
+
+    def copy(self) -> FingerprintDB:
+        """A deep copy: tables and metadata can be changed without touching this one."""
+        return FingerprintDB(
+            tables={name: df.copy(deep=True) for name, df in self.tables.items()},
+            meta=copy.deepcopy(self.meta),
+        )
 
     def save(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
         """Write the tables as Parquet files plus ``fingerprints.json``, atomically."""

@@ -109,7 +109,7 @@ def _score(
         extra["est_heading"] = np.degrees(result.heading[has_heading])
         extra["true_heading"] = np.degrees(true_headings_at(rec, result.t[has_heading]))
     if result.step_count is not None:
-        in_episode = (rec.steps.index >= result.t[0] - 1e-9) & (rec.steps.index <= result.t[-1])
+        in_episode = (rec.steps.index >= result.t_start) & (rec.steps.index <= result.t[-1])
         extra["n_steps_est"] = result.step_count
         extra["n_steps_true"] = int(in_episode.sum())
     return metrics.summarize(
@@ -136,8 +136,16 @@ def evaluate(
     progress: Progress | None = None,
 ) -> Evaluation:
     """Score ``estimator`` (a registered name or ``module:Class``) over ``seeds``."""
+    from indoorsim.walker.carry import available_modes
+
     site = scenario if isinstance(scenario, Site) else indoorsim.load_site(scenario)
     route = route or next(iter(site.scenario.routes))
+    if route not in site.scenario.routes:
+        raise ValueError(
+            f"route {route!r}: {site.name} has routes {', '.join(site.scenario.routes)}"
+        )
+    if mode not in available_modes():
+        raise ValueError(f"mode {mode!r}: carrying modes are {', '.join(available_modes())}")
     ctx = site_context(site, device=device, survey_device=survey_device, window_s=window_s)
     est = make(estimator)
     train = training_walks(site, route, mode=mode, device=device, n=n_train)
@@ -193,7 +201,7 @@ def evaluate_recording(
         window_samples=max(1, round(rate * window_s)),
     )
     est = make(estimator)
-    est.fit(ctx, [])
+    est.fit(ctx, [])  # NotApplicableError propagates: a real log has no surveys or plan
     res = run_episode(est, recording, ctx, start_info(recording))
     truth = recording.true_positions()
     t_true = truth.index.to_numpy(dtype=float)

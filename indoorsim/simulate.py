@@ -45,7 +45,6 @@ from indoorsim.scenario import RouteSpec
 from indoorsim.walker.carry import PhoneTrajectory, carry
 from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
 from indoorsim.walker.route import Route, plan_route
-from indoorsim.world.magnetic import earth_field_enu
 from indoorsim.world.site import Site
 
 # Child streams of a run's SeedSequence, by name. Append new names at the end:
@@ -64,13 +63,17 @@ _STREAMS = (
     "gyro_clock",
 )
 
+# First element of every spawn key: keeps a walk's streams apart from a
+# survey's (indoorsim.survey) when both use the same seed.
+_PHASE = 0
+
 ModeSchedule = str | Sequence[tuple]
 
 
 def run_streams(seed: int) -> dict[str, np.random.Generator]:
     """The named random streams of one run."""
     return {
-        name: np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(i,)))
+        name: np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(_PHASE, i)))
         for i, name in enumerate(_STREAMS)
     }
 
@@ -134,6 +137,8 @@ def simulate(
     """
     if truth_rate_hz < 200:
         raise ValueError(f"truth_rate_hz must be ≥ 200 Hz, got {truth_rate_hz}")
+    if not light_sample_hz > 0:
+        raise ValueError(f"light_sample_hz must be > 0, got {light_sample_hz}")
     profile = get_device(device) if isinstance(device, str) else device
     rngs = run_streams(seed)
     planned = resolve_route(site, route)
@@ -261,9 +266,6 @@ def _recording(
         "steps": steps,
     }
     sc = site.scenario.site
-    declination = np.degrees(
-        np.arctan2(*earth_field_enu(sc.latitude, sc.longitude, sc.altitude_km, sc.date)[:2])
-    )
     meta = {
         "scenario": site.name,
         "seed": int(seed),
@@ -287,7 +289,7 @@ def _recording(
             "quaternion": "world<-phone, scalar first (w, x, y, z)",
             "rotation_world": "Android rotation vector: x magnetic east, y magnetic north, z up",
             "building_north_deg": sc.north_deg,
-            "magnetic_declination_deg": float(declination),
+            "magnetic_declination_deg": site.magnetic_declination_deg,
         },
         "gravity_mps2": g,
         "package": "indoorsim",

@@ -50,41 +50,43 @@ from indoorsim.scenario import GridSurveySpec, WalkSurveySpec
 from indoorsim.world.site import Site
 
 # Child streams of a survey's SeedSequence, by name (append only).
+_PHASE = 1  # spawn keys apart from a walk's (indoorsim.simulate uses 0)
 _STREAMS = ("errors", "noise", "wifi_times", "wifi", "walk", "hand")
 
 
 def survey_streams(seed: int) -> dict[str, np.random.Generator]:
     """The named random streams of one survey."""
     return {
-        name: np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(i,)))
+        name: np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(_PHASE, i)))
         for i, name in enumerate(_STREAMS)
     }
 
 
 def grid_points(site: Site, spec: GridSurveySpec) -> NDArray[np.float64]:
-    """(P, 2) grid points at ``spec.spacing`` in the walkable area (or ``spec.region``)."""
+    """(P, 2) grid points at ``spec.spacing`` in the walkable area (within ``spec.region``).
+
+    Raises:
+        ValueError: the region leaves no walkable grid point.
+    """
+    import shapely
     from shapely.geometry import Polygon
 
     region = site.plan.walkable
     if spec.region is not None:
         region = region.intersection(Polygon(spec.region))
-    x0, y0, x1, y1 = region.bounds
-    s = spec.spacing
-    xs = np.arange(x0 + s / 2, x1, s)
-    ys = np.arange(y0 + s / 2, y1, s)
-    gx, gy = (a.ravel() for a in np.meshgrid(xs, ys, indexing="xy"))
-    pts = np.column_stack([gx, gy])
-    return (
-        pts[site.plan.is_walkable(pts)]
-        if region is site.plan.walkable
-        else pts[_contains(region, pts)]
-    )
-
-
-def _contains(region: Any, pts: NDArray[np.float64]) -> NDArray[np.bool_]:
-    import shapely
-
-    return shapely.contains_xy(region, pts[:, 0], pts[:, 1])
+    pts = np.zeros((0, 2))
+    if not region.is_empty:
+        x0, y0, x1, y1 = region.bounds
+        s = spec.spacing
+        gx, gy = np.meshgrid(np.arange(x0 + s / 2, x1, s), np.arange(y0 + s / 2, y1, s))
+        pts = np.column_stack([gx.ravel(), gy.ravel()])
+        pts = pts[shapely.contains_xy(region, pts[:, 0], pts[:, 1])]
+    if not len(pts):
+        raise ValueError(
+            f"{site.name}: the grid survey's region holds no walkable grid point "
+            f"at {spec.spacing} m spacing"
+        )
+    return pts
 
 
 def grid_survey(
@@ -204,14 +206,27 @@ def walk_survey(
     spec: WalkSurveySpec,
     device: str | DeviceProfile = "honor_50",
     seed: int = 0,
-) -> FingerprintDB:
+    *,
+    with_truth: bool = False,
+) -> FingerprintDB | tuple[FingerprintDB, pd.DataFrame]:
     """Chen2022's walk survey (see the module docstring).
 
+    Args:
+        site: the building.
+        spec: the route, reference-point spacing, WiFi dwell and repeats.
+        device: the survey phone.
+        seed: the survey's seed.
+        with_truth: also return the phone's true positions at the magnetic
+            samples (for diagnosing label errors). They are never part of the
+            database: a real survey team does not have them.
+
     Returns:
-        A database with tables ``magnetic`` (t, x, y labelled from the markers,
-        true_x, true_y, mag_x, mag_y, mag_z in the phone frame, b_h, b_v, b_norm
-        from the fused gravity — Eq. 17–18), ``markers`` (t, x, y of each
-        reference point) and ``wifi`` (ref, x, y and ``rss_<bssid>`` means).
+        A database with tables ``magnetic`` (pass, t, x, y labelled from the
+        markers, mag_x, mag_y, mag_z in the phone frame, b_h, b_v, b_norm from
+        the fused gravity — Eq. 17–18), ``markers`` (t, x, y of each reference
+        point) and ``wifi`` (ref, x, y and ``rss_<bssid>`` means); with
+        ``with_truth``, also a table (pass, t, true_x, true_y) row-aligned with
+        ``magnetic``.
     """
     from indoorsim.simulate import resolve_route, simulate
 
@@ -219,7 +234,7 @@ def walk_survey(
     rngs = survey_streams(seed)
     route = resolve_route(site, spec.route)
     markers = _reference_points(route.points, spec.reference_spacing)
-    tables_mag, tables_marks = [], []
+    tables_mag, tables_marks, tables_truth = [], [], []
     for rep in range(spec.repeats):
         rec = simulate(
             site,
@@ -252,14 +267,22 @@ def walk_survey(
                     "t": tm[inside],
                     "x": x,
                     "y": y,
-                    "true_x": np.interp(tm[inside], truth.index, true_xy[:, 0]),
-                    "true_y": np.interp(tm[inside], truth.index, true_xy[:, 1]),
                     "mag_x": m[:, 0],
                     "mag_y": m[:, 1],
                     "mag_z": m[:, 2],
                     "b_h": b_h,
                     "b_v": b_v,
                     "b_norm": b_norm,
+                }
+            )
+        )
+        tables_truth.append(
+            pd.DataFrame(
+                {
+                    "pass": rep,
+                    "t": tm[inside],
+                    "true_x": np.interp(tm[inside], truth.index, true_xy[:, 0]),
+                    "true_y": np.interp(tm[inside], truth.index, true_xy[:, 1]),
                 }
             )
         )
@@ -284,7 +307,7 @@ def walk_survey(
         rows.append(row)
     meta = _meta(site, "walk", profile, seed, spec.model_dump(mode="json"))
     meta["frame"]["magnetic"] = "phone frame (mag_*); b_h, b_v from the phone's fused gravity (µT)"
-    return FingerprintDB(
+    db = FingerprintDB(
         tables={
             "magnetic": pd.concat(tables_mag, ignore_index=True),
             "markers": pd.concat(tables_marks, ignore_index=True),
@@ -292,6 +315,7 @@ def walk_survey(
         },
         meta=meta,
     )
+    return (db, pd.concat(tables_truth, ignore_index=True)) if with_truth else db
 
 
 def _reference_points(points: NDArray[np.float64], spacing: float) -> NDArray[np.float64]:

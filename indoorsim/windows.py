@@ -7,8 +7,9 @@ reads only sensor streams — never ``truth``, ``steps`` or ``waypoints``.
 A window is ``samples`` consecutive accelerometer samples (the IMU clock sets
 the pace: a fixed length at the IMU rate). Every other stream is aligned to
 those timestamps by sample-and-hold (the latest sample at or before each IMU
-time) with a ``*_fresh`` mask marking where a new sample arrived, so the
-slower sensors' timing is not lost. WiFi is a vector over the site's BSSIDs:
+time; zeros, or the identity rotation, before a stream's first sample) with a
+``*_fresh`` mask marking where a new sample arrived, so the slower sensors'
+timing is not lost. WiFi is a vector over the site's BSSIDs:
 the latest scan at or before the window's end, which APs it heard, whether it
 arrived during this window, and its age. A stream the recording lacks (real
 logs without light, say) is zeros with its fresh mask all zero, and
@@ -130,13 +131,16 @@ class Windower:
                 ts = df.index.to_numpy(dtype=float)
                 idx = _hold(ts, self.t)
                 ok = idx >= 0
+                # Before a stream's first sample nothing is known yet: zeros (never
+                # the later first sample, which would look into the future).
                 values[ok] = df[cols].to_numpy(dtype=float)[idx[ok]]
-                # Before the first sample, hold the first value (a phone's first event).
-                values[~ok] = df[cols].to_numpy(dtype=float)[0]
                 prev = np.r_[-1, idx[:-1]]
                 fresh = (idx > prev).astype(np.int8)
-            if name in ("rotation", "game_rotation") and (df is None or not len(df)):
-                values[:, 0] = 1.0  # identity, not an invalid zero quaternion
+                unknown = ~ok
+            else:
+                unknown = np.ones(n, dtype=bool)
+            if name in ("rotation", "game_rotation"):
+                values[unknown, 0] = 1.0  # identity, not an invalid zero quaternion
             aligned[name] = values[:, 0] if width == 1 else values
             if name in ("mag", "light"):  # the slow sensors: their timing matters
                 aligned[f"{name}_fresh"] = fresh

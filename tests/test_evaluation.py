@@ -175,3 +175,48 @@ def test_an_outside_plugin_runs_through_the_cli(tmp_path):
         assert make("tiny_estimator_plugin:Centre").name == "tiny-centre"
     finally:
         sys.path.remove(str(plugin))
+
+
+@pytest.mark.parametrize(
+    ("north_deg", "field"),
+    [(0.0, None), (30.0, None), (0.0, [0.0, 30.0, -40.0]), (-40.0, [30.0, 0.0, -40.0])],
+)
+def test_rotation_vector_heading_converts_to_the_building_frame(north_deg, field):
+    from scipy.spatial.transform import Rotation
+
+    from indoorsim.estimators.frames import heading_from_rotation
+    from indoorsim.evaluation import site_context
+    from indoorsim.simulate import simulate
+    from indoorsim.world.site import Site
+
+    base = indoorsim.load_site("minimal_room").scenario
+    site_spec = base.site.model_copy(update={"north_deg": north_deg, "earth_field_uT": field})
+    magnetic = base.magnetic.model_copy(update={"dipoles": []})  # an undisturbed field
+    site = Site(base.model_copy(update={"site": site_spec, "magnetic": magnetic, "surveys": {}}))
+    ctx = site_context(site, device="ideal")
+    rec = simulate(site, route="main", device="ideal", seed=0)
+    rot = rec.rotation
+    est = heading_from_rotation(rot.to_numpy(), ctx.magnetic_to_building_rad)
+    truth = rec.truth
+    q = truth[["qw", "qx", "qy", "qz"]].to_numpy()
+    top = Rotation.from_quat(q, scalar_first=True).apply([0.0, 1.0, 0.0])
+    true = np.interp(rot.index, truth.index, np.unwrap(np.arctan2(top[:, 1], top[:, 0])))
+    err = np.degrees(np.angle(np.exp(1j * (est - true))))
+    assert np.median(np.abs(err)) < 2.0
+
+
+def test_evaluate_cli_refuses_an_estimator_the_site_cannot_serve(tmp_path, capsys):
+    args = ["evaluate", "--estimator", "wknn-mag", "--scenario", "chen2022_lab", "--seeds", "1"]
+    assert main([*args, "--device", "ideal", "--out", str(tmp_path / "o")]) == 2
+    assert "not applicable here" in capsys.readouterr().err
+
+
+def test_true_step_count_starts_at_the_first_sample_whatever_the_window():
+    site = indoorsim.load_site("minimal_room")
+    counts = {
+        w: evaluate("pdr-basic", site, seeds=(0,), device="ideal", n_train=1, window_s=w)
+        .walks[0]
+        .metrics["step_count_error"]
+        for w in (1.0, 5.0)
+    }
+    assert counts[1.0] == counts[5.0]

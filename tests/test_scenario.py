@@ -176,6 +176,14 @@ BAD_CASES = [
         "unknown route",
     ),
     (
+        "survey region off the floor",
+        lambda d: d.update(
+            surveys={"g": {"kind": "grid", "region": [[20, 20], [21, 20], [21, 21]]}}
+        ),
+        "surveys.g.region",
+        "does not overlap the walkable area",
+    ),
+    (
         "latitude out of range",
         lambda d: d["site"].update(latitude=95),
         "site.latitude",

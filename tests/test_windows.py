@@ -67,9 +67,10 @@ def test_sample_and_hold_and_fresh_masks(rec):
     obs = Windower(rec, 10, BSSIDS).window(0)
     np.testing.assert_allclose(obs["t"], np.arange(0, 1.0, 0.1))
     np.testing.assert_allclose(obs["accel"][:, 0], np.arange(10))
-    # Magnetometer samples at 0.05, 0.30, 0.55, 0.80 s, held until the next one
-    # (the first is held backwards to t = 0, as a phone's first event).
+    # Magnetometer samples at 0.05, 0.30, 0.55, 0.80 s, held until the next one;
+    # before the first (t = 0) nothing is known yet: zeros.
     np.testing.assert_allclose(obs["mag"][:, 0], [0, 0, 0, 1, 1, 1, 2, 2, 3, 3])
+    np.testing.assert_allclose(obs["mag"][0], [0, 0, 0])
     np.testing.assert_array_equal(obs["mag_fresh"], [0, 1, 0, 1, 0, 0, 1, 0, 1, 0])
     # Streams the recording lacks are zeros, never fresh, and marked absent.
     assert not obs["light_fresh"].any() and (obs["rotation"][:, 0] == 1).all()

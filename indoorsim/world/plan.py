@@ -436,6 +436,17 @@ def geometry_problems(scenario: Scenario) -> list[tuple[str, str]]:
     for i, o in enumerate(scenario.obstacles):
         if not outline.covers(Point(o.center)):
             problems.append((f"obstacles[{i}].center", f"{list(o.center)} is outside the building"))
+    for name, survey in scenario.surveys.items():
+        region = getattr(survey, "region", None)
+        if region is None:
+            continue
+        poly = Polygon(region)
+        if not poly.is_valid:
+            problems.append(
+                (f"surveys.{name}.region", "polygon is self-intersecting or degenerate")
+            )
+        elif poly.intersection(plan.walkable).area <= 0:
+            problems.append((f"surveys.{name}.region", "does not overlap the walkable area"))
     for name, route in scenario.routes.items():
         pts = np.array(route.points(), dtype=float)
         ok = plan.is_walkable(pts)

@@ -12,6 +12,8 @@ This is the public face of the world model (DESIGN §4)::
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -35,6 +37,19 @@ class Site:
     @property
     def name(self) -> str:
         return self.scenario.name
+
+    @property
+    def magnetic_declination_deg(self) -> float:
+        """Magnetic north, degrees clockwise (east) of true north, from this site's Earth field.
+
+        Read off the field the site actually uses (IGRF, or the scenario's
+        explicit ``earth_field_uT``), so a phone's rotation vector — aligned
+        with that field — converts to the building frame consistently.
+        """
+        b = self.magnetic.earth_field_uT
+        theta = math.degrees(math.atan2(b[1], b[0]))  # magnetic north, CCW from building +x
+        # True north lies at 90° + north_deg (CCW from +x); declination is clockwise from it.
+        return (90.0 + self.scenario.site.north_deg - theta + 180.0) % 360.0 - 180.0
 
     def magnetic_field(self, points: ArrayLike) -> NDArray[np.float64]:
         """(N, 3) magnetic flux density in µT, building frame, at (N, 3) points."""
