@@ -13,10 +13,12 @@ from indoorsim.estimators.fingerprint.dtw import (
 )
 from indoorsim.estimators.fingerprint.hv import derivative, hv_components
 from indoorsim.estimators.fingerprint.knn import WKNN
+from indoorsim.estimators.fingerprint.library import FingerprintLibrary
 
 __all__ = [
     "DEFAULT_FLOOR_DBM",
     "WKNN",
+    "FingerprintLibrary",
     "SubsequenceMatch",
     "ddtw_many",
     "derivative",
