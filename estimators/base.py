@@ -185,3 +185,4 @@ def make(spec: str, **kwargs: Any) -> Estimator:
 def _load_builtins() -> None:
     # Importing the pipelines registers them; done lazily to keep `import` light.
     importlib.import_module("indoorsim.estimators.baselines")
+    importlib.import_module("indoorsim.estimators.pipelines.han2023")

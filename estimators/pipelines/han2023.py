@@ -1,0 +1,569 @@
+"""Han2023: PDR with BKF(-WT) heading, Tent-ASO-BP GM/Light fingerprinting, and their fusion.
+
+Registered estimators (PAPER_NOTES, Han2023):
+
+* ``han2023-pdr`` — peak–valley steps (0.5 s rule), Weinberg lengths with K
+  calibrated on the labelled training walks, heading from the biased Kalman
+  filter fusing the gyro's yaw rate and the tilt-compensated magnetometer
+  heading (optionally wavelet-denoised: ``wavelet=True``, the paper's BKF-WT).
+* ``han2023-gm`` / ``han2023-gml`` — layer 1: a Tent-ASO-BP network from the
+  window's mean magnetic field in the geographic frame (and, for GML, its
+  mean illuminance) to (x, y), trained on the fingerprint library
+  interpolated from the grid survey.
+* ``han2023-fusion`` — layer 2: a second Tent-ASO-BP network from
+  (x_GML, y_GML, x_PDR, y_PDR) to (x, y), trained on the training walks.
+* ``bp``, ``aso-bp``, ``tent-aso-bp`` — layer 1 (GM/Light) with plain BP,
+  ASO-BP and Tent-ASO-BP: the static-test variants of Table 2.
+
+Readings taken where the paper is silent:
+
+* The BKF shrinks toward ``bkf_origin``: ``"zero"`` is the literal filter
+  (shrinkage toward heading 0 of the building frame), ``"start"`` shrinks
+  toward the episode's start heading.
+* Wavelet denoising (``wavelet=True``) is causal
+  (:class:`~indoorsim.estimators.pdr.StreamingDenoiser`, db4, soft universal
+  threshold) on the gyro's three axes (every sample) and on the
+  magnetometer's three axes (its fresh samples only).
+* The magnetometer heading is the heading of the phone's +y axis (the phone
+  held flat in front, as in the paper); in other carrying modes it measures
+  the phone's heading, not the walking direction.
+* Layer 1's light input, when the light stream is missing, is the library's
+  mean illuminance (the network still answers from the magnetic field).
+* Layer 2 does not feed back into either layer: PDR and GM/Light run
+  independently from the start, as in the paper's description.
+* Training budgets default to the paper's (population 30, 500 ASO
+  iterations, 1000 BP epochs): the batched ASO makes that about 1.3 s for
+  the basement's 3397-point library. Smaller budgets are constructor
+  arguments (the tests use them).
+
+Missing streams: without a gyroscope the heading filter runs its
+constant-rate model on the magnetometer alone; without a magnetometer it
+integrates the gyro; without the fused gravity the window's mean specific
+force stands in for "up". Layer 1 without a magnetometer or rotation vector,
+or in a window without a fresh magnetometer sample, holds its previous answer
+(the start position at first).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from indoorsim.estimators.base import (
+    NotApplicableError,
+    Observation,
+    SiteContext,
+    StartInfo,
+    register,
+)
+from indoorsim.estimators.fingerprint.library import SURVEY_COLUMNS, FingerprintLibrary
+from indoorsim.estimators.frames import to_world, wrap_angle, yaw_rate
+from indoorsim.estimators.nn.bp import TentAsoBP
+from indoorsim.estimators.pdr import (
+    WEINBERG_K,
+    HeadingBKF,
+    PeakStepDetector,
+    Step,
+    StreamingDenoiser,
+    calibrate_k,
+    mag_heading,
+    weinberg,
+)
+from indoorsim.recording import Recording
+from indoorsim.windows import PRESENT_ORDER, Windower
+
+__all__ = [
+    "AsoBP",
+    "Han2023Fusion",
+    "Han2023GM",
+    "Han2023GML",
+    "Han2023Pdr",
+    "PlainBP",
+    "TentAsoBPStatic",
+    "match_steps",
+]
+
+# How far back the heading history reaches for steps confirmed late, s.
+_HISTORY_S = 5.0
+
+
+def _present(obs: Observation) -> dict[str, bool]:
+    return {name: bool(flag) for name, flag in zip(PRESENT_ORDER, obs["present"], strict=True)}
+
+
+def _not_reset(name: str) -> RuntimeError:
+    return RuntimeError(f"{name}: call reset(start) before act(obs)")
+
+
+def match_steps(
+    steps: Sequence[Step], true_t: NDArray[np.float64], true_len: NDArray[np.float64]
+) -> tuple[list[Step], NDArray[np.float64]]:
+    """Detected steps paired one-to-one with the nearest true step in time.
+
+    The detector reports a step at its low-passed peak, a roughly constant
+    lag after the true step's time: the lag is estimated first, as the
+    median time from the latest true step to each detected peak. A detected
+    step then pairs with the true step nearest its peak time minus the lag if
+    that is within half the median true step interval and no nearer detected
+    step claimed it; true steps with an unknown (NaN) length are skipped.
+
+    Returns:
+        The matched detected steps and their true lengths, m.
+    """
+    if not len(steps) or len(true_t) < 2:
+        return [], np.empty(0)
+    tol = 0.5 * float(np.median(np.diff(true_t)))
+    t_det = np.array([s.t for s in steps])
+    before = np.searchsorted(true_t, t_det, side="right") - 1
+    ok = before >= 0
+    if ok.any():
+        t_det = t_det - float(np.median(t_det[ok] - true_t[before[ok]]))
+    idx = np.clip(np.searchsorted(true_t, t_det), 1, len(true_t) - 1)
+    left, right = true_t[idx - 1], true_t[idx]
+    nearest = np.where(np.abs(t_det - left) <= np.abs(t_det - right), idx - 1, idx)
+    gap = np.abs(t_det - true_t[nearest])
+    best: dict[int, int] = {}
+    for k in np.argsort(gap, kind="stable"):
+        j = int(nearest[k])
+        if gap[k] <= tol and j not in best and np.isfinite(true_len[j]):
+            best[j] = int(k)
+    order = sorted(best.items(), key=lambda item: item[1])
+    return [steps[k] for _, k in order], np.array([true_len[j] for j, _ in order])
+
+
+# --------------------------------------------------------------------------- PDR
+
+
+@register("han2023-pdr")
+@dataclass(kw_only=True)
+class Han2023Pdr:
+    """Han2023's PDR: calibrated Weinberg steps along the BKF(-WT) heading (module docstring).
+
+    Position += L·(cos φ, sin φ) per detected step from the known start
+    (Eq. 1), φ the filter's heading at the step's peak.
+
+    Attributes:
+        min_interval_s: the detector's shortest time between extrema (paper: 0.5 s).
+        weinberg_k: Weinberg's K when no training walk calibrates it.
+        calibrate: calibrate K in ``fit`` on the training walks' true steps.
+        wavelet: wavelet-denoise gyro and magnetometer first (BKF-WT).
+        wavelet_name: the denoiser's wavelet.
+        denoise_window: the denoiser's buffer, samples.
+        bkf_origin: ``"zero"`` (literal) or ``"start"`` (module docstring).
+        use_mag: feed the magnetometer heading to the filter (False: gyro only).
+        k_fitted: after ``fit``, the K in use.
+    """
+
+    name: ClassVar[str] = "han2023-pdr"
+
+    min_interval_s: float = 0.5
+    weinberg_k: float = WEINBERG_K
+    calibrate: bool = True
+    wavelet: bool = False
+    wavelet_name: str = "db4"
+    denoise_window: int = 64
+    bkf_origin: str = "start"
+    use_mag: bool = True
+
+    k_fitted: float = field(default=WEINBERG_K, init=False, compare=False)
+    _mag_to_building: float = field(default=0.0, init=False, repr=False, compare=False)
+    _detector: PeakStepDetector = field(init=False, repr=False, compare=False)
+    _filter: HeadingBKF = field(init=False, repr=False, compare=False)
+    _gyro_dn: StreamingDenoiser = field(init=False, repr=False, compare=False)
+    _mag_dn: StreamingDenoiser = field(init=False, repr=False, compare=False)
+    _position: NDArray[np.float64] | None = field(
+        default=None, init=False, repr=False, compare=False
+    )
+    _steps: int = field(default=0, init=False, repr=False, compare=False)
+    _hist_t: NDArray[np.float64] = field(
+        default_factory=lambda: np.empty(0), init=False, repr=False, compare=False
+    )
+    _hist_h: NDArray[np.float64] = field(
+        default_factory=lambda: np.empty(0), init=False, repr=False, compare=False
+    )
+    _heading: float = field(default=0.0, init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if self.bkf_origin not in ("zero", "start"):
+            raise ValueError(f"bkf_origin must be 'zero' or 'start', got {self.bkf_origin!r}")
+        self.k_fitted = self.weinberg_k
+        self._detector = PeakStepDetector(min_interval_s=self.min_interval_s)
+        self._filter = HeadingBKF()
+        self._gyro_dn = StreamingDenoiser(window=self.denoise_window, wavelet=self.wavelet_name)
+        self._mag_dn = StreamingDenoiser(window=self.denoise_window, wavelet=self.wavelet_name)
+
+    @property
+    def heading(self) -> float:
+        """Current walking-direction estimate, rad counter-clockwise from +x, wrapped."""
+        return float(wrap_angle(self._heading))
+
+    @property
+    def step_count(self) -> int:
+        """Steps detected since the episode's start."""
+        return self._steps
+
+    def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
+        """Calibrate K on the training walks' true steps (default K without any)."""
+        self._mag_to_building = site.magnetic_to_building_rad
+        self.k_fitted = self.weinberg_k
+        if not self.calibrate:
+            return
+        matched: list[Step] = []
+        lengths: list[NDArray[np.float64]] = []
+        for rec in train:
+            true = rec.streams.get("steps")
+            accel = rec.streams.get("accel")
+            if true is None or accel is None or not len(true) or not len(accel):
+                continue
+            det = PeakStepDetector(min_interval_s=self.min_interval_s)
+            steps = det.update(accel.index.to_numpy(dtype=float), accel[["x", "y", "z"]].to_numpy())
+            s, lens = match_steps(
+                steps, true.index.to_numpy(dtype=float), true["length"].to_numpy(dtype=float)
+            )
+            matched += s
+            lengths.append(lens)
+        if matched:
+            try:
+                self.k_fitted = calibrate_k(matched, np.concatenate(lengths))
+            except ValueError:
+                self.k_fitted = self.weinberg_k
+
+    def reset(self, start: StartInfo) -> None:
+        self._position = np.array(start.position, dtype=float)
+        self._steps = 0
+        self._heading = float(start.heading)
+        self._detector.reset()
+        self._filter.origin = float(start.heading) if self.bkf_origin == "start" else 0.0
+        self._filter.reset(float(start.heading))
+        self._gyro_dn.reset()
+        self._mag_dn.reset()
+        self._hist_t, self._hist_h = np.empty(0), np.empty(0)
+
+    def _headings(self, obs: Observation, valid: NDArray[np.bool_]) -> None:
+        """Run the heading filter over the window's samples and extend the history."""
+        present = _present(obs)
+        t = obs["t"][valid]
+        acc = obs["accel"][valid]
+        up = (
+            obs["gravity"][valid] if present["gravity"] else np.broadcast_to(acc.mean(0), acc.shape)
+        )
+        rates = None
+        if present["gyro"]:
+            gyro = obs["gyro"][valid]
+            if self.wavelet:
+                gyro = self._gyro_dn.update(gyro)
+            rates = yaw_rate(gyro, up)
+        phi = np.full(len(t), np.nan)
+        if present["mag"] and self.use_mag:
+            fresh = obs["mag_fresh"][valid].astype(bool)
+            if fresh.any():
+                mag = obs["mag"][valid][fresh]
+                if self.wavelet:
+                    mag = self._mag_dn.update(mag)
+                phi[fresh] = mag_heading(mag, up[fresh], self._mag_to_building)
+        track = self._filter.filter(t, phi, rates)
+        h = track.heading
+        self._heading = float(h[-1])
+        t_all = np.r_[self._hist_t, t]
+        h_all = np.r_[self._hist_h, h]
+        keep = t_all >= t[-1] - _HISTORY_S
+        self._hist_t, self._hist_h = t_all[keep], h_all[keep]
+
+    def act(self, obs: Observation) -> NDArray[np.float64]:
+        if self._position is None:
+            raise _not_reset(self.name)
+        valid = obs["valid"].astype(bool)
+        if not valid.any():
+            return self._position.copy()
+        self._headings(obs, valid)
+        steps = self._detector.update(obs["t"][valid], obs["accel"][valid])
+        if steps:
+            self._steps += len(steps)
+            phi = np.interp([s.t for s in steps], self._hist_t, self._hist_h)
+            length = weinberg([s.a_max for s in steps], [s.a_min for s in steps], self.k_fitted)
+            self._position += np.array([length @ np.cos(phi), length @ np.sin(phi)])
+        return self._position.copy()
+
+
+# --------------------------------------------------------------------------- layer 1
+
+
+def _grid_table(site: SiteContext, survey: str | None, who: str) -> pd.DataFrame:
+    grids = {name: db for name, db in sorted(site.fingerprints.items()) if "grid" in db.tables}
+    if survey is not None:
+        grids = {survey: grids[survey]} if survey in grids else {}
+    if not grids:
+        wanted = f"a grid survey named {survey!r}" if survey else "a grid survey"
+        raise NotApplicableError(
+            f"{who} needs {wanted} (a fingerprint database with a 'grid' table of "
+            f"{', '.join(SURVEY_COLUMNS.values())}); site {site.name!r} has "
+            f"{sorted(site.fingerprints) or 'no fingerprint databases'}"
+        )
+    table = next(iter(grids.values()))["grid"]
+    missing = [c for c in ["x", "y", *SURVEY_COLUMNS.values()] if c not in table.columns]
+    if missing:
+        raise NotApplicableError(f"{who}: the grid survey lacks columns {missing}")
+    return table
+
+
+@register("han2023-gml")
+@dataclass(kw_only=True)
+class Han2023GML:
+    """Layer 1, GM/Light: Tent-ASO-BP from (Mx, My, Mz, L) to (x, y) (module docstring).
+
+    ``fit`` interpolates the grid survey into a
+    :class:`~indoorsim.estimators.fingerprint.library.FingerprintLibrary` and
+    trains the network on every library point. ``act`` feeds it the window's
+    mean field (fresh magnetometer samples rotated to the geographic frame by
+    the rotation vector) and mean illuminance.
+
+    Attributes:
+        population: ASO atoms (paper 30).
+        iterations: ASO iterations (paper 500).
+        epochs: BP epochs (paper 1000).
+        hidden: hidden neurons (paper 4).
+        use_tent: Tent-map initial population.
+        use_aso: ASO search of the initial weights.
+        mag_resolution: library magnetic grid, m.
+        light_resolution: library light grid, m.
+        survey: the grid survey's database name; None for the first with a grid.
+        fit_seed: the seed of the training's randomness.
+        library: after ``fit``, the fingerprint library.
+        network: after ``fit``, the trained network.
+    """
+
+    name: ClassVar[str] = "han2023-gml"
+    features: ClassVar[tuple[str, ...]] = ("Mx", "My", "Mz", "L")
+
+    population: int = 30
+    iterations: int = 500
+    epochs: int = 1000
+    hidden: int = 4
+    use_tent: bool = True
+    use_aso: bool = True
+    mag_resolution: float = 0.3
+    light_resolution: float = 0.6
+    survey: str | None = None
+    fit_seed: int = 0
+
+    library: FingerprintLibrary | None = field(default=None, init=False, repr=False, compare=False)
+    network: TentAsoBP | None = field(default=None, init=False, repr=False, compare=False)
+    _mean_light: float = field(default=0.0, init=False, repr=False, compare=False)
+    _position: NDArray[np.float64] | None = field(
+        default=None, init=False, repr=False, compare=False
+    )
+
+    def _new_network(self) -> TentAsoBP:
+        return TentAsoBP(
+            population=self.population,
+            iterations=self.iterations,
+            epochs=self.epochs,
+            hidden=self.hidden,
+            use_tent=self.use_tent,
+            use_aso=self.use_aso,
+        )
+
+    def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
+        """Build the library from the grid survey and train the network on it.
+
+        Raises:
+            NotApplicableError: if the site has no grid survey.
+        """
+        table = _grid_table(site, self.survey, self.name)
+        plan_like = site.plan if site.plan is not None else table[["x", "y"]].to_numpy(float)
+        self.library = FingerprintLibrary(
+            mag_resolution=self.mag_resolution, light_resolution=self.light_resolution
+        ).fit(table, plan_like)
+        self.fit_table(self.library.table)
+
+    def fit_table(self, table: pd.DataFrame) -> None:
+        """Train the network on a library table (columns x, y and the features)."""
+        self._mean_light = float(table["L"].mean()) if "L" in table else 0.0
+        x = table[list(self.features)].to_numpy(dtype=float)
+        y = table[["x", "y"]].to_numpy(dtype=float)
+        self.network = self._new_network().fit(x, y, np.random.default_rng(self.fit_seed))
+
+    def predict(self, features: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Positions (N, 2) of features (N, len(features))."""
+        if self.network is None:
+            raise RuntimeError(f"{self.name}: call fit(site, train) first")
+        return self.network.predict(np.atleast_2d(features))
+
+    def reset(self, start: StartInfo) -> None:
+        self._position = np.array(start.position, dtype=float)
+
+    def window_features(self, obs: Observation) -> NDArray[np.float64] | None:
+        """The window's feature vector, or None without a fresh, rotatable magnetometer sample."""
+        present = _present(obs)
+        if not (present["mag"] and present["rotation"]):
+            return None
+        valid = obs["valid"].astype(bool)
+        fresh = valid & obs["mag_fresh"].astype(bool)
+        if not fresh.any():
+            return None
+        field_geo = to_world(obs["rotation"][fresh], obs["mag"][fresh]).mean(axis=0)
+        if "L" not in self.features:
+            return field_geo
+        if present["light"]:
+            lit = valid & obs["light_fresh"].astype(bool)
+            lux = float(obs["light"][lit].mean()) if lit.any() else float(obs["light"][valid][-1])
+        else:
+            lux = self._mean_light
+        return np.r_[field_geo, lux]
+
+    def act(self, obs: Observation) -> NDArray[np.float64]:
+        if self.network is None:
+            raise RuntimeError(f"{self.name}: call fit(site, train) first (it needs a grid survey)")
+        if self._position is None:
+            raise _not_reset(self.name)
+        f = self.window_features(obs)
+        if f is not None:
+            self._position = self.predict(f[None, :])[0]
+        return self._position.copy()
+
+
+@register("han2023-gm")
+@dataclass(kw_only=True)
+class Han2023GM(Han2023GML):
+    """Layer 1, magnetic only (Single GM): Tent-ASO-BP from (Mx, My, Mz) to (x, y)."""
+
+    name: ClassVar[str] = "han2023-gm"
+    features: ClassVar[tuple[str, ...]] = ("Mx", "My", "Mz")
+
+
+@register("bp")
+@dataclass(kw_only=True)
+class PlainBP(Han2023GML):
+    """GM/Light layer 1 trained by plain BP from a Nguyen–Widrow start (Table 2, "BP")."""
+
+    name: ClassVar[str] = "bp"
+    use_tent: bool = False
+    use_aso: bool = False
+
+
+@register("aso-bp")
+@dataclass(kw_only=True)
+class AsoBP(Han2023GML):
+    """GM/Light layer 1 with ASO-searched initial weights, random population (Table 2)."""
+
+    name: ClassVar[str] = "aso-bp"
+    use_tent: bool = False
+    use_aso: bool = True
+
+
+@register("tent-aso-bp")
+@dataclass(kw_only=True)
+class TentAsoBPStatic(Han2023GML):
+    """GM/Light layer 1 with Tent-initialised ASO (Table 2, "Tent-ASO-BP")."""
+
+    name: ClassVar[str] = "tent-aso-bp"
+    use_tent: bool = True
+    use_aso: bool = True
+
+
+# --------------------------------------------------------------------------- layer 2
+
+
+def _truth_start(rec: Recording, seed: int) -> StartInfo | None:
+    truth = rec.streams.get("truth")
+    if truth is None or not len(truth):
+        return None
+    return StartInfo(
+        position=np.array([truth["x"].iloc[0], truth["y"].iloc[0]], dtype=float),
+        heading=float(truth["heading"].iloc[0]),
+        seed=seed,
+        t0=float(rec.accel.index[0]),
+    )
+
+
+@register("han2023-fusion")
+@dataclass(kw_only=True)
+class Han2023Fusion:
+    """Layer 2: Tent-ASO-BP from (x_GML, y_GML, x_PDR, y_PDR) to (x, y) (module docstring).
+
+    ``fit`` fits both layers' components, replays every labelled training
+    walk window by window through them (started from the walk's true start)
+    and trains the network on their answers against the true position at
+    each window's end.
+
+    Attributes:
+        pdr: the PDR (its parameters).
+        gml: layer 1 (its parameters).
+        population: layer-2 ASO atoms.
+        iterations: layer-2 ASO iterations.
+        epochs: layer-2 BP epochs.
+        fit_seed: the seed of layer 2's training.
+        network: after ``fit``, layer 2.
+    """
+
+    name: ClassVar[str] = "han2023-fusion"
+
+    pdr: Han2023Pdr = field(default_factory=Han2023Pdr)
+    gml: Han2023GML = field(default_factory=Han2023GML)
+    population: int = 30
+    iterations: int = 500
+    epochs: int = 1000
+    hidden: int = 4
+    fit_seed: int = 0
+
+    network: TentAsoBP | None = field(default=None, init=False, repr=False, compare=False)
+
+    @property
+    def heading(self) -> float:
+        """The PDR's heading, rad counter-clockwise from +x."""
+        return self.pdr.heading
+
+    @property
+    def step_count(self) -> int:
+        """The PDR's steps this episode."""
+        return self.pdr.step_count
+
+    def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
+        """Fit the PDR and layer 1, then layer 2 on the training walks.
+
+        Raises:
+            NotApplicableError: without a grid survey, or without a training
+                walk with a truth stream.
+        """
+        self.gml.fit(site, train)
+        self.pdr.fit(site, train)
+        inputs, targets = [], []
+        for k, rec in enumerate(train):
+            start = _truth_start(rec, seed=k)
+            if start is None or "accel" not in rec.streams or not len(rec.accel):
+                continue
+            windows = Windower(rec, site.window_samples, site.bssids)
+            self.pdr.reset(start)
+            self.gml.reset(start)
+            ends = np.array([windows.end_time(i) for i in range(len(windows))])
+            for obs in windows:
+                inputs.append(np.r_[self.gml.act(obs), self.pdr.act(obs)])
+            ts = rec.truth.index.to_numpy(dtype=float)
+            targets.append(
+                np.column_stack([np.interp(ends, ts, rec.truth[c].to_numpy(float)) for c in "xy"])
+            )
+        if not inputs:
+            raise NotApplicableError(
+                f"{self.name} needs labelled training walks (with a truth stream) for layer 2"
+            )
+        self.network = TentAsoBP(
+            population=self.population,
+            iterations=self.iterations,
+            epochs=self.epochs,
+            hidden=self.hidden,
+        ).fit(np.array(inputs), np.vstack(targets), np.random.default_rng(self.fit_seed))
+
+    def reset(self, start: StartInfo) -> None:
+        self.pdr.reset(start)
+        self.gml.reset(start)
+
+    def act(self, obs: Observation) -> NDArray[np.float64]:
+        if self.network is None:
+            raise RuntimeError(f"{self.name}: call fit(site, train) first")
+        z = np.r_[self.gml.act(obs), self.pdr.act(obs)]
+        return self.network.predict(z[None, :])[0]
