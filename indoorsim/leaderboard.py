@@ -283,6 +283,7 @@ def write_provenance(out: Path, config: dict[str, Any]) -> None:
 # --------------------------------------------------------------------- the board
 
 BASELINES = ("start-only", "pdr-basic", "wknn-mag")
+PIPELINES = ("han2023-pdr", "han2023-gm", "han2023-gml", "han2023-fusion")
 MODES = ("handheld", "calling", "dangling", "pocketed")
 SCENARIOS = ("han2023_basement", "han2023_corridor", "chen2022_lab", "chen2022_office")
 REALDATA = REPO.parent / "shared" / "realdata"
@@ -294,7 +295,7 @@ class BoardConfig:
     """What one leaderboard run covers."""
 
     scenarios: tuple[str, ...] = SCENARIOS
-    estimators: tuple[str, ...] = BASELINES
+    estimators: tuple[str, ...] = BASELINES + PIPELINES
     modes: tuple[str, ...] = MODES
     seeds: tuple[int, ...] = (0, 1, 2)
     device: str = "nexus_5x"
@@ -307,6 +308,7 @@ class BoardConfig:
         """One seed, two modes: a fast smoke run (the README's main job)."""
         return cls(
             scenarios=tuple(scenarios or ("han2023_corridor",)),
+            estimators=BASELINES,
             modes=("handheld", "pocketed"),
             seeds=(0,),
             real_data=False,
