@@ -1116,23 +1116,11 @@ def _office(size: Size | None, seed: int) -> Scenario:
     )
     _furnish_offices(d, rooms)
 
-    d.surveys = {
-        "grid": {
-            "kind": "grid",
-            "spacing": 1.2,
-            "duration_s": 30.0,
-            "rate_hz": 50.0,
-            "height": 1.2,
-            "region": d.region({"corridor"}, max(t_cor, t_ext) / 2),
-        },
-        "walk": {
-            "kind": "walk",
-            "route": "corridor",
-            "reference_spacing": _r(round(rng.uniform(5, 10) * 2) / 2),
-            "wifi_dwell_s": 10.0,
-            "repeats": 1,
-        },
-    }
+    d.surveys = _survey_plans(
+        route="corridor",
+        reference_spacing=_r(round(rng.uniform(5, 10) * 2) / 2),
+        region=d.region({"corridor"}, max(t_cor, t_ext) / 2),
+    )
     layout = "rooms on both sides" if double else "rooms on one side"
     return d.finish(
         kind="office",
@@ -1298,22 +1286,7 @@ def _basement(size: Size | None, seed: int) -> Scenario:
                     )
                     d.obstacle_shapes.append(shape)
 
-    d.surveys = {
-        "grid": {
-            "kind": "grid",
-            "spacing": 1.2,
-            "duration_s": 30.0,
-            "rate_hz": 50.0,
-            "height": 1.2,
-        },
-        "walk": {
-            "kind": "walk",
-            "route": "aisle_loop",
-            "reference_spacing": 8.0,
-            "wifi_dwell_s": 10.0,
-            "repeats": 1,
-        },
-    }
+    d.surveys = _survey_plans(route="aisle_loop", reference_spacing=8.0)
     return d.finish(
         kind="basement",
         seed=seed,
@@ -1503,23 +1476,11 @@ def _courtyard(kind: str, size: Size | None, seed: int, arms: int) -> Scenario:
     d.route("room_visit", [*_path_to(corridor, approach), (door.x, door.y), door.offset(1.2)])
     _furnish_offices(d, rooms)
 
-    d.surveys = {
-        "grid": {
-            "kind": "grid",
-            "spacing": 1.2,
-            "duration_s": 30.0,
-            "rate_hz": 50.0,
-            "height": 1.2,
-            "region": d.region({"corridor"}, max(t_cor, t_ext) / 2),
-        },
-        "walk": {
-            "kind": "walk",
-            "route": "corridor",
-            "reference_spacing": _r(round(rng.uniform(5, 10) * 2) / 2),
-            "wifi_dwell_s": 10.0,
-            "repeats": 1,
-        },
-    }
+    d.surveys = _survey_plans(
+        route="corridor",
+        reference_spacing=_r(round(rng.uniform(5, 10) * 2) / 2),
+        region=d.region({"corridor"}, max(t_cor, t_ext) / 2),
+    )
     shape = "U" if east else "L"
     return d.finish(
         kind=kind,
@@ -1739,23 +1700,7 @@ def _open_hall(size: Size | None, seed: int) -> Scenario:
         if rng.random() < 0.4:
             d.wall_ap(door, "shop")
 
-    d.surveys = {
-        "grid": {
-            "kind": "grid",
-            "spacing": 1.2,
-            "duration_s": 30.0,
-            "rate_hz": 50.0,
-            "height": 1.2,
-            "region": d.region({"hall"}, 0.2),
-        },
-        "walk": {
-            "kind": "walk",
-            "route": "loop",
-            "reference_spacing": 8.0,
-            "wifi_dwell_s": 10.0,
-            "repeats": 1,
-        },
-    }
+    d.surveys = _survey_plans(route="loop", reference_spacing=8.0, region=d.region({"hall"}, 0.2))
     sides = "four" if south_shops else "three"
     return d.finish(
         kind="open_hall",
@@ -1813,3 +1758,27 @@ def generate(kind: str, size: tuple[float, float] | None = None, seed: int = 0) 
     if seed < 0:
         raise ValueError(f"seed must be non-negative, got {seed}")
     return builder(size, seed)
+
+
+def _survey_plans(
+    *, route: str, reference_spacing: float, region: list[list[float]] | None = None
+) -> dict[str, dict[str, object]]:
+    """The two papers' offline phases: Han2023's 1.2 m, 30 s at 50 Hz grid (over
+    ``region``, the whole floor when None) and Chen2022's walk survey along ``route``."""
+    grid: dict[str, object] = {
+        "kind": "grid",
+        "spacing": 1.2,
+        "duration_s": 30.0,
+        "rate_hz": 50.0,
+        "height": 1.2,
+    }
+    if region is not None:
+        grid["region"] = region
+    walk = {
+        "kind": "walk",
+        "route": route,
+        "reference_spacing": reference_spacing,
+        "wifi_dwell_s": 10.0,
+        "repeats": 1,
+    }
+    return {"grid": grid, "walk": walk}
