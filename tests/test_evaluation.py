@@ -220,3 +220,16 @@ def test_true_step_count_starts_at_the_first_sample_whatever_the_window():
         for w in (1.0, 5.0)
     }
     assert counts[1.0] == counts[5.0]
+
+
+@pytest.mark.skipif(not (SHARED / "realdata/oxford-stepcounter").is_dir(), reason="no shared data")
+def test_real_step_count_table_uses_the_reference_counts(tmp_path):
+    from indoorsim.leaderboard import write_step_counts
+
+    table = write_step_counts(tmp_path)
+    inhand = table[
+        (table["walk"] == "Pixel_Jamie_Hard_InHand_1") & (table["min_interval_s"] == 0.3)
+    ]
+    assert inhand["true_steps"].item() == 292
+    assert abs(inhand["error_pct"].item()) < 5  # a phone held in the hand: a clean count
+    assert "| hand | 0.5 |" in (tmp_path / "step_counts_real.md").read_text()
