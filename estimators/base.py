@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 
 from indoorsim.fingerprints import FingerprintDB
 from indoorsim.recording import Recording
-from indoorsim.windows import Observation
+from indoorsim.windows import PRESENT_ORDER, Observation
 
 __all__ = [
     "ENTRY_POINT_GROUP",
@@ -50,6 +50,8 @@ __all__ = [
     "UnknownEstimatorError",
     "available",
     "make",
+    "not_reset_error",
+    "present_streams",
     "register",
 ]
 
@@ -129,6 +131,16 @@ class NotApplicableError(ValueError):
     The leaderboard records such an estimator as not applicable on that site,
     with the message, instead of failing the run.
     """
+
+
+def present_streams(obs: Observation) -> dict[str, bool]:
+    """Which optional streams the window's recording has (``obs["present"]`` by name)."""
+    return {name: bool(flag) for name, flag in zip(PRESENT_ORDER, obs["present"], strict=True)}
+
+
+def not_reset_error(name: str) -> RuntimeError:
+    """The error an estimator raises when ``act`` comes before ``reset``."""
+    return RuntimeError(f"{name}: call reset(start) before act(obs)")
 
 
 class UnknownEstimatorError(LookupError):

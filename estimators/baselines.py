@@ -25,25 +25,18 @@ from indoorsim.estimators.base import (
     Observation,
     SiteContext,
     StartInfo,
+    not_reset_error,
+    present_streams,
     register,
 )
 from indoorsim.estimators.fingerprint import WKNN
-from indoorsim.estimators.frames import to_world
+from indoorsim.estimators.frames import geomagnetic_mean
 from indoorsim.estimators.pdr import WEINBERG_K, GyroHeading, PeakStepDetector, weinberg
 from indoorsim.recording import Recording
-from indoorsim.windows import PRESENT_ORDER
 
 __all__ = ["PdrBasic", "StartOnly", "WknnMag"]
 
 _MAG_COLUMNS = ["mag_x", "mag_y", "mag_z"]
-
-
-def _present(obs: Observation) -> dict[str, bool]:
-    return {name: bool(flag) for name, flag in zip(PRESENT_ORDER, obs["present"], strict=True)}
-
-
-def _not_reset(name: str) -> RuntimeError:
-    return RuntimeError(f"{name}: call reset(start) before act(obs)")
 
 
 @register("start-only")
@@ -65,7 +58,7 @@ class StartOnly:
 
     def act(self, obs: Observation) -> NDArray[np.float64]:
         if self._position is None:
-            raise _not_reset(self.name)
+            raise not_reset_error(self.name)
         return self._position.copy()
 
 
@@ -125,13 +118,13 @@ class PdrBasic:
 
     def act(self, obs: Observation) -> NDArray[np.float64]:
         if self._position is None:
-            raise _not_reset(self.name)
+            raise not_reset_error(self.name)
         valid = obs["valid"].astype(bool)
         t = obs["t"][valid]
         acc = obs["accel"][valid]
         if not len(t):
             return self._position.copy()
-        present = _present(obs)
+        present = present_streams(obs)
         up = (
             obs["gravity"][valid] if present["gravity"] else np.broadcast_to(acc.mean(0), acc.shape)
         )
@@ -213,14 +206,9 @@ class WknnMag:
                 f"{self.name}: call fit(site, train) first (it needs the grid survey)"
             )
         if self._position is None:
-            raise _not_reset(self.name)
-        present = _present(obs)
-        if not (present["mag"] and present["rotation"]):
+            raise not_reset_error(self.name)
+        field_geo = geomagnetic_mean(obs)
+        if field_geo is None:
             return self._position.copy()
-        # Sample-and-hold repeats magnetometer values: average each sample once.
-        fresh = obs["valid"].astype(bool) & obs["mag_fresh"].astype(bool)
-        if not fresh.any():
-            return self._position.copy()
-        field_geo = to_world(obs["rotation"][fresh], obs["mag"][fresh]).mean(axis=0)
         self._position = self._knn.predict(field_geo[None, :])[0]
         return self._position.copy()

@@ -11,10 +11,13 @@ rotation-vector frame becomes a building heading by adding
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from indoorsim import quaternion
+from indoorsim.windows import PRESENT_ORDER
 
 __all__ = ["heading_from_rotation", "to_world", "wrap_angle", "yaw_rate"]
 
@@ -91,3 +94,20 @@ def yaw_rate(gyro: ArrayLike, gravity: ArrayLike) -> NDArray[np.float64]:
     norm = np.linalg.norm(g, axis=-1)
     dot = np.einsum("...i,...i->...", w, g)
     return np.where(norm > _TINY, dot / np.where(norm > _TINY, norm, 1.0), 0.0)
+
+
+def geomagnetic_mean(obs: Mapping[str, NDArray]) -> NDArray[np.float64] | None:
+    """Mean magnetic vector of a window in the phone's geographic frame, µT.
+
+    Each *new* magnetometer sample is rotated to the world by the fused rotation
+    vector (magnetic east, north, up — the frame of a grid survey's mag_x/y/z)
+    and averaged once: sample-and-hold repeats would weight slow samples more.
+    None when the window has no such sample or the recording lacks the streams.
+    """
+    flags = dict(zip(PRESENT_ORDER, obs["present"], strict=True))
+    if not (flags["mag"] and flags["rotation"]):
+        return None
+    fresh = obs["valid"].astype(bool) & obs["mag_fresh"].astype(bool)
+    if not fresh.any():
+        return None
+    return to_world(obs["rotation"][fresh], obs["mag"][fresh]).mean(axis=0)

@@ -59,10 +59,12 @@ from indoorsim.estimators.base import (
     Observation,
     SiteContext,
     StartInfo,
+    not_reset_error,
+    present_streams,
     register,
 )
 from indoorsim.estimators.fingerprint.library import SURVEY_COLUMNS, FingerprintLibrary
-from indoorsim.estimators.frames import to_world, wrap_angle, yaw_rate
+from indoorsim.estimators.frames import geomagnetic_mean, wrap_angle, yaw_rate
 from indoorsim.estimators.nn.bp import TentAsoBP
 from indoorsim.estimators.pdr import (
     WEINBERG_K,
@@ -75,7 +77,7 @@ from indoorsim.estimators.pdr import (
     weinberg,
 )
 from indoorsim.recording import Recording
-from indoorsim.windows import PRESENT_ORDER, Windower
+from indoorsim.windows import Windower
 
 __all__ = [
     "AsoBP",
@@ -90,14 +92,6 @@ __all__ = [
 
 # How far back the heading history reaches for steps confirmed late, s.
 _HISTORY_S = 5.0
-
-
-def _present(obs: Observation) -> dict[str, bool]:
-    return {name: bool(flag) for name, flag in zip(PRESENT_ORDER, obs["present"], strict=True)}
-
-
-def _not_reset(name: str) -> RuntimeError:
-    return RuntimeError(f"{name}: call reset(start) before act(obs)")
 
 
 def match_steps(
@@ -246,7 +240,7 @@ class Han2023Pdr:
 
     def _headings(self, obs: Observation, valid: NDArray[np.bool_]) -> None:
         """Run the heading filter over the window's samples and extend the history."""
-        present = _present(obs)
+        present = present_streams(obs)
         t = obs["t"][valid]
         acc = obs["accel"][valid]
         up = (
@@ -276,7 +270,7 @@ class Han2023Pdr:
 
     def act(self, obs: Observation) -> NDArray[np.float64]:
         if self._position is None:
-            raise _not_reset(self.name)
+            raise not_reset_error(self.name)
         valid = obs["valid"].astype(bool)
         if not valid.any():
             return self._position.copy()
@@ -399,17 +393,13 @@ class Han2023GML:
 
     def window_features(self, obs: Observation) -> NDArray[np.float64] | None:
         """The window's feature vector, or None without a fresh, rotatable magnetometer sample."""
-        present = _present(obs)
-        if not (present["mag"] and present["rotation"]):
+        field_geo = geomagnetic_mean(obs)
+        if field_geo is None:
             return None
-        valid = obs["valid"].astype(bool)
-        fresh = valid & obs["mag_fresh"].astype(bool)
-        if not fresh.any():
-            return None
-        field_geo = to_world(obs["rotation"][fresh], obs["mag"][fresh]).mean(axis=0)
         if "L" not in self.features:
             return field_geo
-        if present["light"]:
+        valid = obs["valid"].astype(bool)
+        if present_streams(obs)["light"]:
             lit = valid & obs["light_fresh"].astype(bool)
             lux = float(obs["light"][lit].mean()) if lit.any() else float(obs["light"][valid][-1])
         else:
@@ -420,7 +410,7 @@ class Han2023GML:
         if self.network is None:
             raise RuntimeError(f"{self.name}: call fit(site, train) first (it needs a grid survey)")
         if self._position is None:
-            raise _not_reset(self.name)
+            raise not_reset_error(self.name)
         f = self.window_features(obs)
         if f is not None:
             self._position = self.predict(f[None, :])[0]
