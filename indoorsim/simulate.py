@@ -42,6 +42,7 @@ from indoorsim.phone.sensors import (
 )
 from indoorsim.recording import Recording
 from indoorsim.scenario import RouteSpec
+from indoorsim.seeding import WALK, named_streams
 from indoorsim.walker.carry import PhoneTrajectory, carry
 from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
 from indoorsim.walker.route import Route, plan_route
@@ -63,19 +64,12 @@ _STREAMS = (
     "gyro_clock",
 )
 
-# First element of every spawn key: keeps a walk's streams apart from a
-# survey's (indoorsim.survey) when both use the same seed.
-_PHASE = 0
-
 ModeSchedule = str | Sequence[tuple]
 
 
 def run_streams(seed: int) -> dict[str, np.random.Generator]:
     """The named random streams of one run."""
-    return {
-        name: np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(_PHASE, i)))
-        for i, name in enumerate(_STREAMS)
-    }
+    return named_streams(seed, WALK, _STREAMS)
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -47,19 +47,16 @@ from indoorsim.phone.sensors import (
     wifi_scans,
 )
 from indoorsim.scenario import GridSurveySpec, WalkSurveySpec
+from indoorsim.seeding import SURVEY, named_streams
 from indoorsim.world.site import Site
 
 # Child streams of a survey's SeedSequence, by name (append only).
-_PHASE = 1  # spawn keys apart from a walk's (indoorsim.simulate uses 0)
 _STREAMS = ("errors", "noise", "wifi_times", "wifi", "walk", "hand")
 
 
 def survey_streams(seed: int) -> dict[str, np.random.Generator]:
     """The named random streams of one survey."""
-    return {
-        name: np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(_PHASE, i)))
-        for i, name in enumerate(_STREAMS)
-    }
+    return named_streams(seed, SURVEY, _STREAMS)
 
 
 def grid_points(site: Site, spec: GridSurveySpec) -> NDArray[np.float64]:
