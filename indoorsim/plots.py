@@ -1416,3 +1416,61 @@ def plot_tracks(evaluations: Sequence[Any], site: Site) -> Figure:
     axes[0].legend(loc="best", fontsize="small")
     fig.suptitle(f"{site.name}: estimated tracks")
     return fig
+
+
+def plot_named_cdfs(
+    panels: dict[str, dict[str, NDArray[np.float64]]], *, xlabel: str, title: str
+) -> Figure:
+    """Empirical CDFs of named error samples, one panel per key of ``panels``.
+
+    Args:
+        panels: panel title → (curve label → 1-D error samples).
+        xlabel: the errors' quantity and unit.
+        title: the figure's title.
+    """
+    from indoorsim.metrics import error_cdf
+
+    fig = Figure(figsize=(4.2 * len(panels), 3.6), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, len(panels), squeeze=False, sharey=True)[0]
+    for ax, (panel, curves) in zip(axes, panels.items(), strict=True):
+        colours = _estimator_colours(curves)
+        for label, errors in curves.items():
+            if len(errors):
+                x, f = error_cdf(np.asarray(errors, dtype=float))
+                ax.step(x, f, where="post", color=colours[label], label=label)
+        ax.set_title(panel)
+        ax.set_xlabel(xlabel)
+        ax.set_xlim(left=0)
+        ax.grid(alpha=0.3)
+        ax.legend(loc="lower right", fontsize="small")
+    axes[0].set_ylabel("fraction")
+    fig.suptitle(title)
+    return fig
+
+
+def plot_training_curves(
+    panels: dict[str, dict[str, NDArray[np.float64]]], *, threshold: float | None = None
+) -> Figure:
+    """Training MSE per epoch (log scale), one panel per key, one curve per network (Fig. 14).
+
+    Args:
+        panels: panel title → (network label → (epochs,) MSE).
+        threshold: a horizontal reference line (Han2023 counts epochs to MSE < 0.1).
+    """
+    fig = Figure(figsize=(4.2 * len(panels), 3.6), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, len(panels), squeeze=False, sharey=True)[0]
+    for ax, (panel, curves) in zip(axes, panels.items(), strict=True):
+        colours = _estimator_colours(curves)
+        for label, mse in curves.items():
+            ax.semilogy(np.arange(1, len(mse) + 1), mse, color=colours[label], label=label)
+        if threshold is not None:
+            ax.axhline(threshold, color="0.5", lw=0.8, ls="--")
+        ax.set_title(panel)
+        ax.set_xlabel("BP epoch")
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(loc="upper right", fontsize="small")
+    axes[0].set_ylabel("training MSE (normalised)")
+    fig.suptitle("Convergence of BP, ASO-BP and Tent-ASO-BP (Han2023 Fig. 14)")
+    return fig

@@ -69,6 +69,7 @@ from indoorsim.estimators.nn.bp import TentAsoBP
 from indoorsim.estimators.pdr import (
     WEINBERG_K,
     HeadingBKF,
+    HeadingKF,
     PeakStepDetector,
     Step,
     StreamingDenoiser,
@@ -89,6 +90,9 @@ __all__ = [
     "TentAsoBPStatic",
     "match_steps",
 ]
+
+# Table 1's heading methods, in the paper's column order.
+HEADING_METHODS = ("bkf", "kf", "mag", "gyro")
 
 # How far back the heading history reaches for steps confirmed late, s.
 _HISTORY_S = 5.0
@@ -149,8 +153,18 @@ class Han2023Pdr:
         wavelet_name: the denoiser's wavelet.
         denoise_window: the denoiser's buffer, samples.
         bkf_origin: ``"zero"`` (literal) or ``"start"`` (module docstring).
-        use_mag: feed the magnetometer heading to the filter (False: gyro only).
+        heading_method: ``"bkf"`` (the paper's), ``"kf"``, ``"mag"`` (the
+            tilt-compensated magnetometer heading alone, held between fresh
+            samples) or ``"gyro"`` (trapezoidal integration of the yaw rate
+            alone): the four columns of Table 1.
+        mag_frame: ``"site"`` turns magnetometer headings into the building
+            frame with the site's north and declination; ``"start"`` instead
+            takes the offset from the episode's first fresh magnetometer
+            window and the known start heading — for real logs whose map
+            is not tied to north.
         k_fitted: after ``fit``, the K in use.
+        step_log: this episode's detected steps as (peak time s, heading rad
+            unwrapped, length m), for per-step scoring (Table 1).
     """
 
     name: ClassVar[str] = "han2023-pdr"
@@ -162,12 +176,18 @@ class Han2023Pdr:
     wavelet_name: str = "db4"
     denoise_window: int = 64
     bkf_origin: str = "start"
-    use_mag: bool = True
+    heading_method: str = "bkf"
+    mag_frame: str = "site"
 
     k_fitted: float = field(default=WEINBERG_K, init=False, compare=False)
     _mag_to_building: float = field(default=0.0, init=False, repr=False, compare=False)
+    _site_mag_offset: float = field(default=0.0, init=False, repr=False, compare=False)
+    _align_pending: bool = field(default=False, init=False, repr=False, compare=False)
     _detector: PeakStepDetector = field(init=False, repr=False, compare=False)
-    _filter: HeadingBKF = field(init=False, repr=False, compare=False)
+    step_log: list[tuple[float, float, float]] = field(
+        default_factory=list, init=False, repr=False, compare=False
+    )
+    _filter: HeadingKF = field(init=False, repr=False, compare=False)
     _gyro_dn: StreamingDenoiser = field(init=False, repr=False, compare=False)
     _mag_dn: StreamingDenoiser = field(init=False, repr=False, compare=False)
     _position: NDArray[np.float64] | None = field(
@@ -185,9 +205,15 @@ class Han2023Pdr:
     def __post_init__(self) -> None:
         if self.bkf_origin not in ("zero", "start"):
             raise ValueError(f"bkf_origin must be 'zero' or 'start', got {self.bkf_origin!r}")
+        if self.mag_frame not in ("site", "start"):
+            raise ValueError(f"mag_frame must be 'site' or 'start', got {self.mag_frame!r}")
+        if self.heading_method not in HEADING_METHODS:
+            raise ValueError(
+                f"heading_method must be one of {HEADING_METHODS}, got {self.heading_method!r}"
+            )
         self.k_fitted = self.weinberg_k
         self._detector = PeakStepDetector(min_interval_s=self.min_interval_s)
-        self._filter = HeadingBKF()
+        self._filter = HeadingBKF() if self.heading_method == "bkf" else HeadingKF()
         self._gyro_dn = StreamingDenoiser(window=self.denoise_window, wavelet=self.wavelet_name)
         self._mag_dn = StreamingDenoiser(window=self.denoise_window, wavelet=self.wavelet_name)
 
@@ -203,7 +229,7 @@ class Han2023Pdr:
 
     def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
         """Calibrate K on the training walks' true steps (default K without any)."""
-        self._mag_to_building = site.magnetic_to_building_rad
+        self._site_mag_offset = site.magnetic_to_building_rad
         self.k_fitted = self.weinberg_k
         if not self.calibrate:
             return
@@ -230,7 +256,10 @@ class Han2023Pdr:
     def reset(self, start: StartInfo) -> None:
         self._position = np.array(start.position, dtype=float)
         self._steps = 0
+        self.step_log = []
         self._heading = float(start.heading)
+        self._mag_to_building = self._site_mag_offset
+        self._align_pending = self.mag_frame == "start"
         self._detector.reset()
         self._filter.origin = float(start.heading) if self.bkf_origin == "start" else 0.0
         self._filter.reset(float(start.heading))
@@ -239,7 +268,7 @@ class Han2023Pdr:
         self._hist_t, self._hist_h = np.empty(0), np.empty(0)
 
     def _headings(self, obs: Observation, valid: NDArray[np.bool_]) -> None:
-        """Run the heading filter over the window's samples and extend the history."""
+        """Run the heading method over the window's samples and extend the history."""
         present = present_streams(obs)
         t = obs["t"][valid]
         acc = obs["accel"][valid]
@@ -247,26 +276,43 @@ class Han2023Pdr:
             obs["gravity"][valid] if present["gravity"] else np.broadcast_to(acc.mean(0), acc.shape)
         )
         rates = None
-        if present["gyro"]:
+        if present["gyro"] and self.heading_method != "mag":
             gyro = obs["gyro"][valid]
             if self.wavelet:
                 gyro = self._gyro_dn.update(gyro)
             rates = yaw_rate(gyro, up)
         phi = np.full(len(t), np.nan)
-        if present["mag"] and self.use_mag:
+        if present["mag"] and self.heading_method != "gyro":
             fresh = obs["mag_fresh"][valid].astype(bool)
             if fresh.any():
                 mag = obs["mag"][valid][fresh]
                 if self.wavelet:
                     mag = self._mag_dn.update(mag)
+                if self._align_pending:
+                    raw = mag_heading(mag, up[fresh])
+                    mean = np.angle(np.exp(1j * raw).mean())
+                    self._mag_to_building = float(wrap_angle(self._heading - mean))
+                    self._align_pending = False
                 phi[fresh] = mag_heading(mag, up[fresh], self._mag_to_building)
-        track = self._filter.filter(t, phi, rates)
-        h = track.heading
+        if self.heading_method == "mag":
+            h = self._held_mag_heading(phi)
+        else:
+            h = self._filter.filter(t, phi, rates).heading
         self._heading = float(h[-1])
         t_all = np.r_[self._hist_t, t]
         h_all = np.r_[self._hist_h, h]
         keep = t_all >= t[-1] - _HISTORY_S
         self._hist_t, self._hist_h = t_all[keep], h_all[keep]
+
+    def _held_mag_heading(self, phi: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The magnetometer heading alone ("Mag"): unwrapped, held between fresh samples."""
+        h = np.empty(len(phi))
+        last = self._heading
+        for i, p in enumerate(phi):
+            if np.isfinite(p):
+                last += float(wrap_angle(p - last))
+            h[i] = last
+        return h
 
     def act(self, obs: Observation) -> NDArray[np.float64]:
         if self._position is None:
@@ -278,8 +324,10 @@ class Han2023Pdr:
         steps = self._detector.update(obs["t"][valid], obs["accel"][valid])
         if steps:
             self._steps += len(steps)
-            phi = np.interp([s.t for s in steps], self._hist_t, self._hist_h)
+            t_steps = [s.t for s in steps]
+            phi = np.interp(t_steps, self._hist_t, self._hist_h)
             length = weinberg([s.a_max for s in steps], [s.a_min for s in steps], self.k_fitted)
+            self.step_log += zip(t_steps, phi.tolist(), length.tolist(), strict=True)
             self._position += np.array([length @ np.cos(phi), length @ np.sin(phi)])
         return self._position.copy()
 
@@ -287,7 +335,7 @@ class Han2023Pdr:
 # --------------------------------------------------------------------------- layer 1
 
 
-def _grid_table(site: SiteContext, survey: str | None, who: str) -> pd.DataFrame:
+def grid_survey_table(site: SiteContext, survey: str | None, who: str) -> pd.DataFrame:
     grids = {name: db for name, db in sorted(site.fingerprints.items()) if "grid" in db.tables}
     if survey is not None:
         grids = {survey: grids[survey]} if survey in grids else {}
@@ -368,7 +416,7 @@ class Han2023GML:
         Raises:
             NotApplicableError: if the site has no grid survey.
         """
-        table = _grid_table(site, self.survey, self.name)
+        table = grid_survey_table(site, self.survey, self.name)
         plan_like = site.plan if site.plan is not None else table[["x", "y"]].to_numpy(float)
         self.library = FingerprintLibrary(
             mag_resolution=self.mag_resolution, light_resolution=self.light_resolution
