@@ -42,7 +42,7 @@ seeded from it (the Nguyen–Widrow start); torch's global RNG is never used.
 
 Torch's thread settings are left alone (they are process-wide). A fit at the
 paper's settings on a few thousand points takes about a second
-(``benchmarks/bench_tent_aso_bp.py``). The batched passes (30 × N × 4
+(``benchmarks/bench_han2023.py``). The batched passes (30 × N × 4
 values) are large enough for torch to split them over its intra-op threads,
 which costs far more than it saves when other processes keep the cores busy:
 on the 2-core development machine under load, 100 ASO iterations on 400

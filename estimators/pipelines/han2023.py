@@ -570,6 +570,26 @@ class Han2023Fusion:
         """
         self.gml.fit(site, train)
         self.pdr.fit(site, train)
+        inputs, targets = self.layer_two_data(site, train)
+        self.network = TentAsoBP(
+            population=self.population,
+            iterations=self.iterations,
+            epochs=self.epochs,
+            hidden=self.hidden,
+        ).fit(inputs, targets, np.random.default_rng(self.fit_seed))
+
+    def layer_two_data(
+        self, site: SiteContext, train: Sequence[Recording]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Layer 2's training set: the fitted PDR and layer 1 replayed on the training walks.
+
+        Returns:
+            (N, 4) inputs (x_GML, y_GML, x_PDR, y_PDR) at each window's end and
+            (N, 2) true positions there.
+
+        Raises:
+            NotApplicableError: without a training walk with a truth stream.
+        """
         inputs, targets = [], []
         for k, rec in enumerate(train):
             start = _truth_start(rec, seed=k)
@@ -589,12 +609,7 @@ class Han2023Fusion:
             raise NotApplicableError(
                 f"{self.name} needs labelled training walks (with a truth stream) for layer 2"
             )
-        self.network = TentAsoBP(
-            population=self.population,
-            iterations=self.iterations,
-            epochs=self.epochs,
-            hidden=self.hidden,
-        ).fit(np.array(inputs), np.vstack(targets), np.random.default_rng(self.fit_seed))
+        return np.array(inputs), np.vstack(targets)
 
     def reset(self, start: StartInfo) -> None:
         self.pdr.reset(start)
