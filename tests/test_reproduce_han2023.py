@@ -12,6 +12,7 @@ import indoorsim
 from indoorsim.estimators.pipelines.han2023 import HEADING_METHODS, Han2023Pdr
 from indoorsim.evaluation import run_episode, site_context, start_info, true_headings_at
 from indoorsim.reproduce import han2023 as rep
+from indoorsim.reproduce.tables import ordering
 from indoorsim.simulate import simulate
 
 
@@ -21,8 +22,8 @@ def corridor() -> indoorsim.Site:
 
 
 def test_ordering_compares_ranks_not_values() -> None:
-    assert rep.ordering([1.0, 2.0, 3.0], [10.0, 20.0, 30.0])
-    assert not rep.ordering([1.0, 3.0, 2.0], [10.0, 20.0, 30.0])
+    assert ordering([1.0, 2.0, 3.0], [10.0, 20.0, 30.0])
+    assert not ordering([1.0, 3.0, 2.0], [10.0, 20.0, 30.0])
 
 
 def test_heading_errors_cover_every_column_with_the_same_steps(corridor: indoorsim.Site) -> None:

@@ -10,7 +10,7 @@
   GM, GM/Light, PDR and GM/Light/PDR, handheld, on scenarios I and II.
 
 Each table carries the paper's values in ``paper_*`` columns and
-:func:`ordering` says whether the methods rank alike. Readings:
+:func:`~indoorsim.reproduce.tables.ordering` says whether the methods rank alike. Readings:
 
 * Eq. 32's "mod 360" mean is not a valid angular error (PAPER_NOTES item 1 of
   the experiments): the error of a step is |wrap(H_e − H_t)| in degrees, H_e
@@ -43,6 +43,7 @@ from indoorsim.estimators.pipelines.han2023 import (
     grid_survey_table,
 )
 from indoorsim.evaluation import run_episode, site_context, start_info, true_headings_at
+from indoorsim.reproduce.tables import cell, rank_line
 from indoorsim.simulate import simulate
 from indoorsim.world.site import Site
 
@@ -52,7 +53,6 @@ __all__ = [
     "PAPER_TABLE_2",
     "heading_errors",
     "heading_table",
-    "ordering",
     "static_table",
     "trajectory_table",
 ]
@@ -110,11 +110,6 @@ LABELS = {
 }
 
 STATIC_VARIANTS = {"bp": (False, False), "aso-bp": (False, True), "tent-aso-bp": (True, True)}
-
-
-def ordering(ours: Sequence[float], paper: Sequence[float]) -> bool:
-    """Whether two score lists rank their methods in the same order (ties broken alike)."""
-    return list(np.argsort(ours, kind="stable")) == list(np.argsort(paper, kind="stable"))
 
 
 def heading_errors(
@@ -268,24 +263,6 @@ def trajectory_table(rows: pd.DataFrame, scenario: str) -> pd.DataFrame:
 # ----------------------------------------------------------------------- report
 
 
-def _cell(ours: float, paper: float, digits: int = 2) -> str:
-    ours_s = "n/a" if not np.isfinite(ours) else f"{ours:.{digits}f}"
-    return f"{ours_s} ({paper:.{digits}f})"
-
-
-def _rank_line(names: Sequence[str], ours: Sequence[float], paper: Sequence[float]) -> str:
-    """Methods ranked by mean error, ours and the paper's (those we could not run left out)."""
-    keep = [i for i, v in enumerate(ours) if np.isfinite(v)]
-    names = [names[i] for i in keep]
-    ours, paper = [ours[i] for i in keep], [paper[i] for i in keep]
-
-    def order(v: Sequence[float]) -> str:
-        return " < ".join(names[i] for i in np.argsort(v, kind="stable"))
-
-    same = "same order" if ordering(ours, paper) else "**different order**"
-    return f"Mean error, best first — ours: {order(ours)}; paper: {order(paper)} ({same})."
-
-
 def write_report(
     out: Path,
     scenario_rows: dict[str, pd.DataFrame],
@@ -334,7 +311,7 @@ def write_report(
     for _, r in t1.iterrows():
         lines.append(
             f"| {r['method']} | {'yes' if r['wt'] else 'no'} | {r['steps']} | "
-            + " | ".join(_cell(r[k], r[f"paper_{k}"]) for k in TABLE_1_STATS)
+            + " | ".join(cell(r[k], r[f"paper_{k}"]) for k in TABLE_1_STATS)
             + " |"
         )
     for wt in (True, False):
@@ -342,7 +319,7 @@ def write_report(
         lines += [
             "",
             f"{'With' if wt else 'Without'} WT: "
-            + _rank_line(list(sub["method"]), list(sub["mean"]), list(sub["paper_mean"])),
+            + rank_line(list(sub["method"]), list(sub["mean"]), list(sub["paper_mean"])),
         ]
     panels = {
         f"{'with' if wt else 'without'} WT": {
@@ -375,16 +352,16 @@ def write_report(
         epochs = r["epochs_to_mse_0.1"]
         lines.append(
             f"| {r['scenario']} | {r['method']} | "
-            + " | ".join(_cell(r[k], r[f"paper_{k}"]) for k in ("min", "max", "mean", "sd"))
+            + " | ".join(cell(r[k], r[f"paper_{k}"]) for k in ("min", "max", "mean", "sd"))
             + f" | {r['within_1m_pct']:.1f} | {'never' if epochs < 0 else epochs} "
-            f"({r['paper_epochs_to_mse_0.1']}) | {_cell(r['min_mse'], r['paper_min_mse'], 4)} |"
+            f"({r['paper_epochs_to_mse_0.1']}) | {cell(r['min_mse'], r['paper_min_mse'], 4)} |"
         )
     for name in ("han2023_basement", "han2023_corridor"):
         sub = t2[t2["scenario"] == name]
         lines += [
             "",
             f"{name}: "
-            + _rank_line(list(sub["method"]), list(sub["mean"]), list(sub["paper_mean"])),
+            + rank_line(list(sub["method"]), list(sub["mean"]), list(sub["paper_mean"])),
         ]
     plot_training_curves(curves, threshold=0.1).savefig(
         out / "han2023_fig14_convergence.png", dpi=120, bbox_inches="tight"
@@ -409,10 +386,10 @@ def write_report(
         for _, r in t.iterrows():
             lines.append(
                 f"| {r['method']} | `{r['estimator']}` | "
-                + " | ".join(_cell(r[k], r[f"paper_{k}"]) for k in ("min", "max", "mean", "sd"))
+                + " | ".join(cell(r[k], r[f"paper_{k}"]) for k in ("min", "max", "mean", "sd"))
                 + " |"
             )
-        lines += ["", _rank_line(list(t["method"]), list(t["mean"]), list(t["paper_mean"])), ""]
+        lines += ["", rank_line(list(t["method"]), list(t["mean"]), list(t["paper_mean"])), ""]
     if t34:
         pd.concat(t34, ignore_index=True).to_csv(out / "han2023_tables3_4.csv", index=False)
     lines += [
