@@ -198,3 +198,4 @@ def _load_builtins() -> None:
     # Importing the pipelines registers them; done lazily to keep `import` light.
     importlib.import_module("indoorsim.estimators.baselines")
     importlib.import_module("indoorsim.estimators.pipelines.han2023")
+    importlib.import_module("indoorsim.estimators.pipelines.chen2022")

@@ -133,9 +133,13 @@ def evaluate(
     survey_device: str = "honor_50",
     window_s: float = 1.0,
     n_train: int = 2,
+    params: dict[str, Any] | None = None,
     progress: Progress | None = None,
 ) -> Evaluation:
-    """Score ``estimator`` (a registered name or ``module:Class``) over ``seeds``."""
+    """Score ``estimator`` (a registered name or ``module:Class``) over ``seeds``.
+
+    ``params`` go to the estimator's constructor.
+    """
     from indoorsim.walker.carry import available_modes
 
     site = scenario if isinstance(scenario, Site) else indoorsim.load_site(scenario)
@@ -147,7 +151,7 @@ def evaluate(
     if mode not in available_modes():
         raise ValueError(f"mode {mode!r}: carrying modes are {', '.join(available_modes())}")
     ctx = site_context(site, device=device, survey_device=survey_device, window_s=window_s)
-    est = make(estimator)
+    est = make(estimator, **(params or {}))
     train = training_walks(site, route, mode=mode, device=device, n=n_train)
     config = {
         "env_id": env_id(site.name),
@@ -156,6 +160,7 @@ def evaluate(
         "survey_device": survey_device,
         "window_s": window_s,
         "n_train": n_train,
+        "params": json.dumps(params or {}, sort_keys=True),
         "package_version": indoorsim.__version__,
         "git_revision": git_revision(),
     }
@@ -349,9 +354,10 @@ def run_leaderboard(
         ]
         tables[site.name] = write_scenario(evals, out, site)
     if config.paper_experiments:
-        from indoorsim.reproduce import han2023
+        from indoorsim.reproduce import chen2022, han2023
 
         han2023.write_report(out, tables, device=config.device, progress=progress)
+        chen2022.write_report(out, tables, device=config.device, progress=progress)
     if config.real_data and ILC_TRACES.is_dir():
         tables["real_data"] = write_real_data(out, progress=progress)
     if config.real_data and OXFORD.is_dir():
@@ -496,7 +502,7 @@ def write_readme(out: Path, tables: dict[str, pd.DataFrame]) -> None:
         parts += [f"## {title}", "", markdown_table(table), ""]
         if name != "real_data":
             parts += [f"![CDF]({name}_cdf.png)", "", f"![tracks]({name}_tracks.png)", ""]
-    for paper in ("han2023",):
+    for paper in ("han2023", "chen2022"):
         report = out / f"{paper}.md"
         if report.is_file():
             parts += [report.read_text().rstrip(), ""]

@@ -326,7 +326,7 @@ def test_grid_survey_writes_the_scenarios_plan_as_a_database(tmp_path, capsys):
 
 def test_walk_survey_writes_reference_points_and_sequences(tmp_path, capsys):
     out = tmp_path / "db"
-    assert _survey("chen2022_lab", out, "--kind", "walk") == 0
+    assert _survey("chen2022_lab", out, "--kind", "walk", "--name", "walk") == 0
     db = FingerprintDB.load(out)
     assert set(db.tables) == {"magnetic", "markers", "wifi"}
     assert db.meta["kind"] == "walk"
@@ -361,7 +361,7 @@ def test_survey_name_picks_one_of_several_plans(two_grid_plans, tmp_path, capsys
     ("scenario", "extra", "expected"),
     [
         ("minimal_room", ["--kind", "grid"], "no grid survey plan; its survey plans are: none"),
-        ("chen2022_lab", ["--kind", "grid"], "its survey plans are: walk (walk)"),
+        ("minimal_room", ["--kind", "walk"], "no walk survey plan; its survey plans are: none"),
         ("chen2022_lab", ["--kind", "walk", "--name", "loop"], "--name loop"),
         ("han2023_basement", ["--kind", "grid", "--device", "nokia_3310"], "'nokia_3310'"),
     ],

@@ -206,7 +206,7 @@ def test_rotation_vector_heading_converts_to_the_building_frame(north_deg, field
 
 
 def test_evaluate_cli_refuses_an_estimator_the_site_cannot_serve(tmp_path, capsys):
-    args = ["evaluate", "--estimator", "wknn-mag", "--scenario", "chen2022_lab", "--seeds", "1"]
+    args = ["evaluate", "--estimator", "wknn-mag", "--scenario", "minimal_room", "--seeds", "1"]
     assert main([*args, "--device", "ideal", "--out", str(tmp_path / "o")]) == 2
     assert "not applicable here" in capsys.readouterr().err
 

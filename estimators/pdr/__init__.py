@@ -11,6 +11,18 @@ from indoorsim.estimators.pdr.filters import (
     gyro_heading,
     mag_heading,
 )
+from indoorsim.estimators.pdr.gait import (
+    PENDULUM_LENGTH_M,
+    GaitDeadReckoning,
+    GaitStep,
+    QuaternionAttitude,
+    StationaryDetector,
+    VerticalZuptEKF,
+    dcm,
+    euler_angles,
+    pendulum_step_length,
+    vertical_acceleration,
+)
 from indoorsim.estimators.pdr.heading import GyroHeading
 from indoorsim.estimators.pdr.length import (
     MODELS,
@@ -26,21 +38,31 @@ from indoorsim.estimators.pdr.wavelet import StreamingDenoiser, denoise
 
 __all__ = [
     "MODELS",
+    "PENDULUM_LENGTH_M",
     "STANDARD_GRAVITY",
     "WEINBERG_K",
+    "GaitDeadReckoning",
+    "GaitStep",
     "GyroHeading",
     "HeadingBKF",
     "HeadingKF",
     "HeadingTrack",
     "PeakStepDetector",
+    "QuaternionAttitude",
+    "StationaryDetector",
     "Step",
     "StreamingDenoiser",
+    "VerticalZuptEKF",
     "calibrate_k",
+    "dcm",
     "denoise",
+    "euler_angles",
     "gyro_heading",
     "kim",
     "mag_heading",
+    "pendulum_step_length",
     "scarlet",
     "step_lengths",
+    "vertical_acceleration",
     "weinberg",
 ]
