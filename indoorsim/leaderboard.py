@@ -292,7 +292,9 @@ def write_provenance(out: Path, config: dict[str, Any]) -> None:
 # --------------------------------------------------------------------- the board
 
 BASELINES = ("start-only", "pdr-basic", "wknn-mag")
-PIPELINES = ("han2023-pdr", "han2023-gm", "han2023-gml", "han2023-fusion")
+HAN2023 = ("han2023-pdr", "han2023-gm", "han2023-gml", "han2023-fusion")
+CHEN2022 = ("dr-wifi", "dr-mm", "pf", "chen2022-cpf")
+PIPELINES = HAN2023 + CHEN2022
 MODES = ("handheld", "calling", "dangling", "pocketed")
 SCENARIOS = ("han2023_basement", "han2023_corridor", "chen2022_lab", "chen2022_office")
 REALDATA = REPO.parent / "shared" / "realdata"

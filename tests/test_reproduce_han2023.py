@@ -66,11 +66,11 @@ def test_static_table_holds_out_the_points_and_records_curves() -> None:
     site = indoorsim.load_site("han2023_basement")
     budget = {"population": 6, "iterations": 5, "epochs": 20}
     table, curves = rep.static_table(site, n_test=20, budget=budget)
-    assert list(table["method"]) == ["BP", "ASO-BP", "Tent-ASO-BP"]
+    assert list(table["method"]) == ["BP", "ASO-BP", "Tent-ASO-BP", "1-NN lookup (diagnostic)"]
     assert (table["test_points"] == 20).all()
     assert (table["min"] <= table["mean"]).all() and (table["mean"] <= table["max"]).all()
     assert {len(c) for c in curves.values()} == {20}
-    assert (table["paper_mean"] == [2.51, 1.63, 1.31]).all()
+    assert table["paper_mean"].tolist()[:3] == [2.51, 1.63, 1.31]
 
 
 def test_trajectory_table_maps_the_leaderboard_columns() -> None:
