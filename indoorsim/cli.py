@@ -9,6 +9,8 @@
     indoorsim plot site minimal_room my-site.yaml --out plots/
     indoorsim plot site --all --out plots/ --resolution 0.2
     indoorsim plot recording walks/main-1 trace.txt --out plots/
+    indoorsim dataset --sites 20 --walks-per-site 8 --minutes 10 --seed 0 \
+        --workers 2 --out data/          # labelled Parquet shards on Dask (resumable)
 
 Each subcommand is a pair of functions: ``_add_<command>(subparsers)`` declares
 its arguments and sets ``handler`` to ``_run_<command>(args) -> int``. Adding
@@ -18,8 +20,11 @@ recording``, ...) are listed the same way in :data:`_PLOT_TARGETS`.
 
 Exit codes: 0 success, 1 an I/O failure while writing, 2 a usage error (bad
 arguments, an unknown scenario, route, mode or device name, an invalid scenario
-file, an output folder that is in the way). Errors are printed to stderr as one
-clear message, without a traceback.
+or data-set configuration file, an output folder that is in the way), 3 work
+that finished but failed its goal (``evaluate``: a metric above its
+``--fail-above`` threshold; ``dataset``: shards that still failed after their
+retries, each named). Errors are printed to stderr as one clear message,
+without a traceback.
 """
 
 from __future__ import annotations
@@ -855,6 +860,104 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
     return 0
 
 
+# ------------------------------------------------------------------- dataset
+
+
+def _add_dataset(subparsers: _Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "dataset",
+        help="generate a labelled data set of windows as Parquet shards (Dask)",
+        description="Simulate many walks (bundled and generated sites, random routes, walkers, "
+        "carrying modes with transitions, devices) and write fixed-length windows of the "
+        "phone's streams with their truth labels as Parquet shards, plus a dataset card "
+        "(dataset_card.json and README.md, with the schema). Runs on a local Dask cluster "
+        "(--workers processes) or an existing one (--scheduler). The output is the same "
+        "whatever the number of workers; an interrupted run resumes when the same command "
+        "is run again. Options given here override the --config file's keys.",
+    )
+    parser.add_argument("--sites", type=_positive(int), metavar="N", help="number of sites")
+    parser.add_argument(
+        "--walks-per-site", type=_positive(int), metavar="K", help="walks in each site"
+    )
+    parser.add_argument(
+        "--minutes", type=_positive(float), metavar="M", help="length of each walk, minutes"
+    )
+    parser.add_argument("--seed", type=_seed, metavar="S", help="seed of the data set (>= 0)")
+    parser.add_argument(
+        "--config",
+        type=Path,
+        metavar="FILE",
+        help="YAML/JSON file with any key of the data-set configuration (see "
+        "indoorsim.dataset.config.DatasetConfig)",
+    )
+    parser.add_argument(
+        "--recordings",
+        action="store_true",
+        default=None,
+        help="also save every walk's whole recording folder under recordings/",
+    )
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument(
+        "--workers",
+        type=_positive(int),
+        metavar="W",
+        help="worker processes of the local cluster (default: the number of cores)",
+    )
+    where.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="use an existing Dask cluster, e.g. tcp://10.0.0.5:8786 (its workers need "
+        "indoorsim and --out at the same path)",
+    )
+    parser.add_argument(
+        "--out", type=Path, required=True, metavar="DIR", help="the data set's folder"
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.set_defaults(handler=_run_dataset)
+
+
+def _run_dataset(args: argparse.Namespace) -> int:
+    from indoorsim.dataset import DatasetConfigError, load_config
+    from indoorsim.dataset.driver import DatasetFolderError, ShardFailures, build_dataset
+
+    overrides = {
+        key: value
+        for key, value in (
+            ("sites", args.sites),
+            ("walks_per_site", args.walks_per_site),
+            ("minutes", args.minutes),
+            ("seed", args.seed),
+            ("recordings", args.recordings),
+        )
+        if value is not None
+    }
+    try:
+        config = load_config(args.config, overrides)
+    except DatasetConfigError as err:
+        raise CliError(str(err)) from None
+    try:
+        report = build_dataset(
+            config,
+            args.out,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=False if args.quiet else None,
+        )
+    except DatasetFolderError as err:
+        raise CliError(str(err)) from None
+    except ShardFailures as err:
+        print(f"indoorsim: {err}", file=sys.stderr)
+        return 3
+    text = (
+        f"Wrote {args.out}: {report.shards} shards ({report.computed} computed now, "
+        f"{report.skipped} already complete), {report.windows} windows, "
+        f"{report.hours:.2f} hours of labelled data, in {report.wall_s:.1f} s. "
+        f"Card: {args.out / 'dataset_card.json'} and {args.out / 'README.md'}."
+    )
+    print(textwrap.fill(text, width=88, break_on_hyphens=False))
+    return 0
+
+
 _PLOT_TARGETS: tuple[Callable[[_Subparsers], None], ...] = (_add_plot_site, _add_plot_recording)
 """What ``indoorsim plot`` can draw; each entry adds one ``plot <target>`` subcommand."""
 
@@ -864,6 +967,7 @@ _COMMANDS: tuple[Callable[[_Subparsers], None], ...] = (
     _add_survey,
     _add_evaluate,
     _add_leaderboard,
+    _add_dataset,
     _add_plot,
 )
 """The subcommands, in the order ``indoorsim --help`` lists them."""

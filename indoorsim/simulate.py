@@ -112,6 +112,7 @@ def simulate(
     walker: WalkerParams | None = None,
     truth_rate_hz: float = 200.0,
     light_sample_hz: float = 50.0,
+    duration_s: float | None = None,
 ) -> Recording:
     """Walk ``route`` through ``site`` carrying a ``device`` in ``mode`` and record it.
 
@@ -125,6 +126,11 @@ def simulate(
         truth_rate_hz: rate of the truth stream (≥ 200 Hz).
         light_sample_hz: rate at which illuminance is evaluated for the light
             sensor's integration.
+        duration_s: keep only the walk's first ``duration_s`` seconds: the body
+            trajectory is cut there before the phone is carried and the sensors
+            sample it (a long route walked for a fixed time, as the data-set
+            writer does). None keeps the whole walk. A mode schedule must
+            start every mode before the cut.
 
     Returns:
         The recording: raw, fused and truth streams plus metadata.
@@ -133,14 +139,21 @@ def simulate(
         raise ValueError(f"truth_rate_hz must be ≥ 200 Hz, got {truth_rate_hz}")
     if not light_sample_hz > 0:
         raise ValueError(f"light_sample_hz must be > 0, got {light_sample_hz}")
+    if duration_s is not None and not duration_s > 0:
+        raise ValueError(f"duration_s must be > 0 s, got {duration_s}")
     profile = get_device(device) if isinstance(device, str) else device
     rngs = run_streams(seed)
     planned = resolve_route(site, route)
     params = walker or WalkerParams()
     body = walk(site.plan, planned, params, rngs["walker"], rate_hz=truth_rate_hz)
+    if duration_s is not None:
+        body = body.window(0, int(np.searchsorted(body.t, duration_s, side="right")))
     phone = carry(body, mode, rngs["carry"])
     samples = sample_sensors(site, phone, profile, rngs, light_sample_hz=light_sample_hz)
-    return _recording(site, planned, body, phone, samples, profile, seed, mode, params)
+    rec = _recording(site, planned, body, phone, samples, profile, seed, mode, params)
+    if duration_s is not None:
+        rec.meta["duration_s"] = float(duration_s)
+    return rec
 
 
 def sample_sensors(

@@ -99,6 +99,12 @@ class Windower:
         recording: the walk (simulated or real); needs an ``accel`` stream.
         samples: IMU samples per window.
         bssids: the APs, in the order of the WiFi vectors.
+
+    Attributes:
+        t: (n,) the IMU sample times.
+        aligned: every per-sample key of the observation table but ``t`` and
+            ``valid``, as one (n, ...) array over all IMU samples, before it is
+            cut into windows (the data-set writer cuts overlapping windows from it).
     """
 
     def __init__(self, recording: Recording, samples: int, bssids: Sequence[str]):
@@ -144,6 +150,8 @@ class Windower:
             aligned[name] = values[:, 0] if width == 1 else values
             if name in ("mag", "light"):  # the slow sensors: their timing matters
                 aligned[f"{name}_fresh"] = fresh
+        self.aligned = aligned
+        self._scan_t, self._scan_rss, self._scan_heard = self._scans(streams.get("wifi"))
         # Every window is cut here, once, so that window(k) only copies: an
         # environment step or an estimator's loop costs a few microseconds.
         self._n_windows = -(-n // samples)
@@ -156,26 +164,32 @@ class Windower:
         }
         for name, values in aligned.items():
             self._blocks[name] = values[at].reshape(shape + values.shape[1:])
-        self._blocks.update(self._wifi_windows(streams.get("wifi")))
+        first = np.arange(self._n_windows) * samples
+        last = np.minimum(first + samples, n) - 1
+        self._blocks.update(self.wifi_windows(first, last))
 
-    def _wifi_windows(self, wifi: object) -> dict[str, NDArray]:
-        """The WiFi entries of every window: the latest scan at or before the window's end.
+    def wifi_windows(self, first: NDArray[np.intp], last: NDArray[np.intp]) -> dict[str, NDArray]:
+        """The WiFi entries of windows spanning IMU samples ``first[k]..last[k]``.
 
-        Returns ``wifi_rss`` and ``wifi_heard`` of shape (N, A), ``wifi_fresh``
-        and ``wifi_age`` of shape (N, 1), for N windows and A APs.
+        Each window gets the latest scan at or before its last sample; the scan
+        is fresh when it arrived after the sample before the window's first
+        (any time, for a window starting at sample 0). Windows may overlap.
+
+        Returns:
+            ``wifi_rss`` and ``wifi_heard`` of shape (N, A), ``wifi_fresh`` and
+            ``wifi_age`` of shape (N, 1), for N windows and A APs.
         """
-        scan_t, rss, heard = self._scans(wifi)
-        last = np.minimum(np.arange(1, self._n_windows + 1) * self.samples, len(self.t)) - 1
+        scan_t, rss, heard = self._scan_t, self._scan_rss, self._scan_heard
+        n_windows = len(first)
         t_end = self.t[last]
-        # A scan is fresh when it arrived after the previous window's last sample.
-        t_prev = np.r_[-np.inf, t_end[:-1]]
+        t_prev = np.where(first > 0, self.t[np.maximum(first - 1, 0)], -np.inf)
         s = np.searchsorted(scan_t, t_end, side="right") - 1
         got = s >= 0
         out = {
-            "wifi_rss": np.full((self._n_windows, len(self.bssids)), NO_SIGNAL_DBM),
-            "wifi_heard": np.zeros((self._n_windows, len(self.bssids)), np.int8),
-            "wifi_fresh": np.zeros((self._n_windows, 1), np.int8),
-            "wifi_age": np.full((self._n_windows, 1), MAX_AGE_S),
+            "wifi_rss": np.full((n_windows, len(self.bssids)), NO_SIGNAL_DBM),
+            "wifi_heard": np.zeros((n_windows, len(self.bssids)), np.int8),
+            "wifi_fresh": np.zeros((n_windows, 1), np.int8),
+            "wifi_age": np.full((n_windows, 1), MAX_AGE_S),
         }
         out["wifi_rss"][got] = rss[s[got]]
         out["wifi_heard"][got] = heard[s[got]]

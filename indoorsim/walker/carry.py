@@ -47,6 +47,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 import pymunk
 from numpy.typing import NDArray
+from pymunk._chipmunk_cffi import lib as _CP
 from scipy.interpolate import CubicSpline
 from scipy.ndimage import gaussian_filter1d
 from scipy.signal import butter, sosfilt, sosfilt_zi
@@ -604,13 +605,18 @@ class Dangling(CarryMode):
         )
         angle = np.empty(len(t_phys))
         angle[0] = 0.0
-        step = space.step
+        space.gravity = (float(gx[0]), float(gy[0]))
+        arm.torque = float(tau[0])
+        space.step(dt)  # the first step through pymunk: it checks the bodies once
+        # Then Chipmunk directly: pymunk's property and step wrappers cost more
+        # than the physics here, and this space has no callbacks (same results).
+        c_space, c_arm = space._space, arm._body
         for k, (ax, ay, tk) in enumerate(zip(gx.tolist(), gy.tolist(), tau.tolist(), strict=True)):
             if k:
-                angle[k] = arm.angle
-            space.gravity = (ax, ay)
-            arm.torque = tk
-            step(dt)
+                angle[k] = _CP.cpBodyGetAngle(c_arm)
+                _CP.cpSpaceSetGravity(c_space, (ax, ay))
+                _CP.cpBodySetTorque(c_arm, tk)
+                _CP.cpSpaceStep(c_space, dt)
         return CubicSpline(t_phys, angle)(t)
 
 

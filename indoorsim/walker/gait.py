@@ -53,6 +53,7 @@ import pandas as pd
 import pymunk
 import shapely
 from numpy.typing import ArrayLike, NDArray
+from pymunk._chipmunk_cffi import lib as _CP
 from scipy.integrate import cumulative_trapezoid
 from scipy.interpolate import CubicHermiteSpline, CubicSpline
 from scipy.ndimage import gaussian_filter1d
@@ -1068,12 +1069,21 @@ def _steer(
     body.position = tuple(ref[0])
     body.velocity = tuple(vel[0])
     out = [tuple(ref[0])]
-    step = space.step
-    for k in range(1, len(ref)):
-        control.position = lead[k]
-        control.velocity = vel_l[k]
-        step(dt)
+    if len(ref) > 1:
+        control.position = lead[1]
+        control.velocity = vel_l[1]
+        space.step(dt)  # the first step through pymunk: it checks the bodies once
         out.append(tuple(body.position))
+    # Then Chipmunk directly: pymunk's property and step wrappers cost more than
+    # the physics over thousands of steps, and this space has no callbacks,
+    # additions or removals for them to handle (the results are identical).
+    c_space, c_control, c_body = space._space, control._body, body._body
+    for k in range(2, len(ref)):
+        _CP.cpBodySetPosition(c_control, lead[k])
+        _CP.cpBodySetVelocity(c_control, vel_l[k])
+        _CP.cpSpaceStep(c_space, dt)
+        p = _CP.cpBodyGetPosition(c_body)
+        out.append((p.x, p.y))
     return np.asarray(out)
 
 

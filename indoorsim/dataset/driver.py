@@ -1,0 +1,371 @@
+"""Running a data set on Dask: resume, retries, progress, and the card written last.
+
+:func:`build_dataset` is the whole job:
+
+1. resolve the configuration and its plan; store the configuration as
+   ``config.json`` in the output folder before any work (or, when the folder
+   already holds one, refuse unless it is equal: a resumed run must be the
+   same data set);
+2. delete the temporary files a killed run left behind, and skip every shard
+   whose sidecar exists and whose file still matches the sidecar's checksum;
+3. run the remaining shards as Dask tasks — on a new
+   ``LocalCluster(n_workers=W, threads_per_worker=1, processes=True)``, or on
+   an existing cluster given by its scheduler address — each retried
+   ``config.retries`` times before it counts as failed; a progress bar follows
+   :func:`distributed.as_completed`;
+4. write ``run_log.json`` (timings, worker count, failures: the one file that
+   differs between runs), then, if every shard is done, the dataset card
+   (``dataset_card.json`` and ``README.md``), built from the sidecars in shard
+   order so that it is byte-identical however the shards were computed.
+
+On an existing cluster the workers write the shards themselves: they need
+indoorsim installed and the output folder at the same path (a shared file
+system).
+
+Failed shards are reported by name with their exception
+(:class:`ShardFailures`); the finished shards stay, and running the same
+command again computes only what is missing.
+
+Workers run single-threaded numerical libraries (OpenMP, MKL, OpenBLAS, torch
+and, where installed, whatever ``threadpoolctl`` controls): the environment of
+a local cluster's worker processes is set before they start
+(``distributed.nanny.pre-spawn-environ``), and a worker plugin sets the limits
+again on any cluster.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import datetime
+import json
+import logging
+import os
+import platform
+import sys
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+import dask
+from distributed import Client, LocalCluster, as_completed
+from distributed.diagnostics.plugin import WorkerPlugin
+
+from indoorsim.dataset.card import covered_hours, write_card
+from indoorsim.dataset.config import DatasetConfig, config_difference
+from indoorsim.dataset.plan import make_plan
+from indoorsim.dataset.shard import (
+    PARTIAL,
+    RECORDINGS_DIR,
+    SHARDS_DIR,
+    run_shard,
+    shard_is_complete,
+)
+
+__all__ = ["BuildReport", "DatasetFolderError", "ShardFailures", "build_dataset"]
+
+CONFIG_FILE = "config.json"
+RUN_LOG = "run_log.json"
+_SINGLE_THREAD_ENV = {
+    "OMP_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+    "OPENBLAS_NUM_THREADS": "1",
+    "NUMBA_NUM_THREADS": "1",
+}
+
+
+class DatasetFolderError(ValueError):
+    """An output folder that cannot take this data set (foreign content, another config)."""
+
+
+@dataclass(frozen=True)
+class ShardFailure:
+    """A shard whose task failed after every retry."""
+
+    name: str
+    error: str
+
+
+class ShardFailures(RuntimeError):
+    """Shards that failed after their retries; the message names each one and its error."""
+
+    def __init__(self, failures: list[ShardFailure], done: int, total: int):
+        self.failures = failures
+        lines = [f"  {f.name}: {f.error}" for f in failures]
+        super().__init__(
+            f"{len(failures)} of {total} shards failed after their retries "
+            f"({done} are complete and kept; run the same command again to retry):\n"
+            + "\n".join(lines)
+        )
+
+
+@dataclass
+class BuildReport:
+    """What a run did.
+
+    Attributes:
+        out: the data set's folder.
+        shards: shards in the plan.
+        skipped: shards that were already complete.
+        computed: shards computed in this run.
+        windows: windows in the whole data set.
+        hours: hours of IMU data in the whole data set.
+        wall_s: this run's wall time.
+        failures: shards that failed (empty when the card was written).
+        timings: per computed shard, its stage timings.
+    """
+
+    out: Path
+    shards: int
+    skipped: int = 0
+    computed: int = 0
+    windows: int = 0
+    hours: float = 0.0
+    wall_s: float = 0.0
+    failures: list[ShardFailure] = field(default_factory=list)
+    timings: dict[str, dict[str, float]] = field(default_factory=dict)
+
+
+# ---------------------------------------------------------------------- the folder
+
+
+def _write_json(path: Path, data: Any) -> None:
+    tmp = path.with_name(f".{path.name}{PARTIAL}")
+    tmp.write_text(json.dumps(data, indent=2, sort_keys=True, allow_nan=False) + "\n", "utf-8")
+    os.replace(tmp, path)
+
+
+def prepare_folder(out: Path, config: DatasetConfig) -> None:
+    """Create ``out`` with ``config.json``, or check that it holds this configuration.
+
+    Raises:
+        DatasetFolderError: ``out`` is a file, a non-empty folder that is no
+            data set, or a data set of another configuration (the message
+            lists the keys that differ).
+    """
+    wanted = config.to_json()
+    stored_path = out / CONFIG_FILE
+    if out.exists() and not out.is_dir():
+        raise DatasetFolderError(f"--out {out}: exists and is not a folder")
+    if stored_path.is_file():
+        try:
+            stored = json.loads(stored_path.read_text(encoding="utf-8"))
+        except (OSError, json.JSONDecodeError) as err:
+            raise DatasetFolderError(
+                f"{stored_path}: unreadable ({err}); remove the folder"
+            ) from None
+        diff = (
+            config_difference(stored, wanted) if isinstance(stored, dict) else ["<not a mapping>"]
+        )
+        if diff:
+            raise DatasetFolderError(
+                f"{out} holds a data set of another configuration; resuming needs the same "
+                "arguments (or use another --out). Differences:\n  " + "\n  ".join(diff)
+            )
+        return
+    if out.is_dir() and any(out.iterdir()):
+        raise DatasetFolderError(
+            f"--out {out}: a non-empty folder without {CONFIG_FILE}; "
+            "refusing to write a data set into it"
+        )
+    out.mkdir(parents=True, exist_ok=True)
+    _write_json(stored_path, wanted)
+
+
+def _clean_partials(out: Path) -> None:
+    """Delete what a killed run left half written (temporary files and folders)."""
+    import shutil
+
+    for folder in (out, out / SHARDS_DIR, out / RECORDINGS_DIR):
+        if not folder.is_dir():
+            continue
+        for item in folder.iterdir():
+            if item.name.startswith(".") and item.name.endswith((PARTIAL, ".old")):
+                if item.is_dir() and not item.is_symlink():
+                    shutil.rmtree(item, ignore_errors=True)
+                else:
+                    item.unlink(missing_ok=True)
+
+
+# ---------------------------------------------------------------------- Dask
+
+
+class _SingleThreaded(WorkerPlugin):
+    """Worker plugin: one thread for every numerical library in the worker's process.
+
+    Pre-spawn environment variables cover the worker processes of a local
+    cluster; this covers an existing cluster's workers too.
+    """
+
+    idempotent = True
+    name = "indoorsim-single-threaded"
+
+    def setup(self, worker: Any) -> None:
+        os.environ.update(_SINGLE_THREAD_ENV)
+        with contextlib.suppress(ImportError):
+            from threadpoolctl import threadpool_limits
+
+            threadpool_limits(limits=1)
+        if "torch" in sys.modules:
+            sys.modules["torch"].set_num_threads(1)
+
+
+@contextlib.contextmanager
+def _client(workers: int | None, scheduler: str | None) -> Iterator[Client]:
+    if scheduler is not None:
+        with Client(scheduler, set_as_default=False) as client:
+            client.register_plugin(_SingleThreaded(), name=_SingleThreaded.name)
+            yield client
+        return
+    n = workers or os.cpu_count() or 1
+    with dask.config.set({"distributed.nanny.pre-spawn-environ": _SINGLE_THREAD_ENV}):
+        with (
+            LocalCluster(
+                n_workers=n,
+                threads_per_worker=1,
+                processes=True,
+                dashboard_address=None,
+                silence_logs=logging.ERROR,
+            ) as cluster,
+            Client(cluster, set_as_default=False) as client,
+        ):
+            client.register_plugin(_SingleThreaded(), name=_SingleThreaded.name)
+            yield client
+
+
+def build_dataset(
+    config: DatasetConfig,
+    out: str | os.PathLike[str],
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool | None = None,
+) -> BuildReport:
+    """Generate (or resume) the data set of ``config`` in ``out``.
+
+    Args:
+        config: the configuration (resolved here if it is not yet).
+        out: the output folder: new, empty, or an earlier run of the same configuration.
+        workers: local worker processes (default: the number of cores). Ignored
+            with ``scheduler``.
+        scheduler: address of an existing Dask scheduler (``tcp://host:8786``).
+        progress: show a progress bar (None: only when stderr is a terminal).
+
+    Returns:
+        What was done; the card is written when every shard is complete.
+
+    Raises:
+        DatasetFolderError: ``out`` cannot take this data set.
+        ShardFailures: some shards failed after their retries (the others are kept).
+    """
+    from tqdm import tqdm
+
+    started = time.perf_counter()
+    started_at = datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
+    config = config.resolved()
+    root = Path(out)
+    plan = make_plan(config)
+    prepare_folder(root, config)
+    _clean_partials(root)
+    report = BuildReport(out=root, shards=len(plan.shards))
+    sidecars: dict[str, dict[str, Any]] = {}
+    todo = []
+    for shard in plan.shards:
+        info = shard_is_complete(root, shard.name)
+        if info is None:
+            todo.append(shard)
+        else:
+            sidecars[shard.name] = info
+    report.skipped = len(sidecars)
+
+    if todo:
+        config_json = config.to_json()
+        with (
+            _client(workers, scheduler) as client,
+            tqdm(
+                total=len(plan.shards),
+                initial=len(sidecars),
+                unit="shard",
+                desc="dataset",
+                disable=None if progress is None else not progress,
+                file=sys.stderr,
+            ) as bar,
+        ):
+            run_id = f"{os.getpid()}-{time.time_ns()}"
+            futures = {
+                client.submit(
+                    run_shard,
+                    config_json,
+                    shard.to_json(),
+                    str(root),
+                    key=f"{shard.name}-{run_id}",
+                    retries=config.retries,
+                    pure=False,
+                ): shard.name
+                for shard in todo
+            }
+            for future in as_completed(futures, loop=client.loop):
+                name = futures[future]
+                if future.status == "error":
+                    err = future.exception()
+                    report.failures.append(ShardFailure(name, f"{type(err).__name__}: {err}"))
+                else:
+                    result = future.result()
+                    report.timings[name] = result.pop("timing")
+                    sidecars[name] = result
+                    report.computed += 1
+                    bar.set_postfix_str(name)
+                bar.update(1)
+                future.release()
+    report.failures.sort(key=lambda f: f.name)
+    report.windows = sum(int(s["rows"]) for s in sidecars.values())
+    report.hours = covered_hours(
+        [w["windows"] for info in sidecars.values() for w in info["walks"]], config
+    )
+    report.wall_s = time.perf_counter() - started
+    _write_run_log(root, report, started_at, workers, scheduler)
+    if report.failures:
+        raise ShardFailures(report.failures, len(sidecars), len(plan.shards))
+    write_card(root, config, plan, [sidecars[s.name] for s in plan.shards], versions())
+    return report
+
+
+def versions() -> dict[str, str]:
+    """Versions of indoorsim and the libraries whose behaviour shapes the data."""
+    out = {"python": platform.python_version()}
+    for package in (
+        "indoorsim",
+        "numpy",
+        "scipy",
+        "pandas",
+        "pyarrow",
+        "shapely",
+        "pymunk",
+        "numba",
+    ):
+        try:
+            out[package] = metadata.version(package)
+        except metadata.PackageNotFoundError:
+            out[package] = "not installed"
+    return out
+
+
+def _write_run_log(
+    root: Path, report: BuildReport, started_at: str, workers: int | None, scheduler: str | None
+) -> None:
+    log = {
+        "started_utc": started_at,
+        "wall_s": round(report.wall_s, 3),
+        "workers": None if scheduler else (workers or os.cpu_count() or 1),
+        "scheduler": scheduler or "local",
+        "shards": report.shards,
+        "skipped": report.skipped,
+        "computed": report.computed,
+        "failures": [{"shard": f.name, "error": f.error} for f in report.failures],
+        "timings": report.timings,
+        "note": "run information only: not part of the data set and not byte-identical "
+        "between runs",
+    }
+    _write_json(root / RUN_LOG, log)
