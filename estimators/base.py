@@ -199,3 +199,4 @@ def _load_builtins() -> None:
     importlib.import_module("indoorsim.estimators.baselines")
     importlib.import_module("indoorsim.estimators.pipelines.han2023")
     importlib.import_module("indoorsim.estimators.pipelines.chen2022")
+    importlib.import_module("indoorsim.estimators.pipelines.chen2022_cited")

@@ -293,7 +293,7 @@ def write_provenance(out: Path, config: dict[str, Any]) -> None:
 
 BASELINES = ("start-only", "pdr-basic", "wknn-mag")
 HAN2023 = ("han2023-pdr", "han2023-gm", "han2023-gml", "han2023-fusion")
-CHEN2022 = ("dr-wifi", "dr-mm", "pf", "chen2022-cpf")
+CHEN2022 = ("dr-wifi", "dr-mm", "pf", "chen2022-cpf", "edtw-rekf", "apf", "wimag")
 PIPELINES = HAN2023 + CHEN2022
 MODES = ("handheld", "calling", "dangling", "pocketed")
 SCENARIOS = ("han2023_basement", "han2023_corridor", "chen2022_lab", "chen2022_office")

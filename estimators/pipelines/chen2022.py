@@ -151,8 +151,18 @@ __all__ = [
     "Chen2022Pf",
     "DrMm",
     "DrWifi",
+    "FixErrors",
     "FixTracker",
     "StepFixes",
+    "calibrate_length_scale",
+    "fit_survey_matchers",
+    "fix_variance_m2",
+    "labelled_walks",
+    "noise_std",
+    "replay_dr",
+    "replay_errors",
+    "walk_surveys",
+    "wifi_references",
 ]
 
 # Likelihood variances and filter noises used when no training walk can estimate them.
@@ -340,13 +350,20 @@ class FixTracker:
             self._mag_t, self._mag_hv = self._mag_t[recent], self._mag_hv[recent]
 
 
-def _walk_surveys(
-    site: SiteContext, survey: str | None, who: str
-) -> list[dict[str, pd.DataFrame]]:
+def walk_surveys(site: SiteContext, survey: str | None, who: str) -> list[dict[str, pd.DataFrame]]:
     """Every walk survey's tables (``magnetic``, ``wifi``), in name order, or NotApplicableError.
 
     A site may survey several paths (one walk survey each); their tracks and
     reference runs are pooled, never joined end to end.
+
+    Args:
+        site: the site context.
+        survey: the walk survey's database name; None: every database with a
+            ``magnetic`` table.
+        who: the estimator's name, for the error message.
+
+    Raises:
+        NotApplicableError: if the site has no such walk survey.
     """
     walks = {n: db for n, db in sorted(site.fingerprints.items()) if "magnetic" in db.tables}
     if survey is not None:
@@ -362,7 +379,7 @@ def _walk_surveys(
     return [db.tables for db in walks.values()]
 
 
-def _wifi_references(
+def wifi_references(
     tables: dict[str, pd.DataFrame], bssids: Sequence[str]
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
     """Reference points in survey order and their RSS in the site's AP order (None: unusable)."""
@@ -381,6 +398,192 @@ def _wifi_references(
     if np.isnan(rss).all():
         return None
     return table[["x", "y"]].to_numpy(dtype=float), rss
+
+
+def fit_survey_matchers(
+    site: SiteContext,
+    surveys: Sequence[dict[str, pd.DataFrame]],
+    *,
+    magnetic: MagneticSequenceMatcher | None,
+    wifi: WifiSequenceMatcher | None,
+    spacing_m: float,
+    who: str,
+) -> tuple[MagneticSequenceMatcher | None, WifiSequenceMatcher | None]:
+    """Fit sequence matchers on the walk surveys' magnetic tracks and WiFi reference paths.
+
+    Args:
+        site: the site context (its APs order the WiFi references).
+        surveys: the walk surveys' tables (:func:`walk_surveys`).
+        magnetic: an unfitted magnetic matcher, or None for no magnetic fixes.
+        wifi: an unfitted WiFi matcher, or None for no WiFi fixes.
+        spacing_m: the metre grid of the magnetic tracks.
+        who: the estimator's name, for error messages.
+
+    Returns:
+        ``(magnetic, wifi)``, each fitted, or None where it was not wanted or
+        the surveys cannot feed it.
+
+    Raises:
+        NotApplicableError: when neither wanted matcher can be fitted, or a
+            magnetic table lacks its columns.
+    """
+    mag_out = wifi_out = None
+    if magnetic is not None:
+        try:
+            tracks = [
+                track
+                for tables in surveys
+                for track in reference_tracks(tables["magnetic"], spacing_m)
+            ]
+        except ValueError as err:
+            raise NotApplicableError(f"{who}: {err}") from None
+        if tracks:
+            mag_out = magnetic.fit(tracks)
+    if wifi is not None:
+        paths = [r for t in surveys if (r := wifi_references(t, site.bssids)) is not None]
+        if paths:
+            wifi_out = wifi.fit(paths)
+    if mag_out is None and wifi_out is None:
+        wanted = " and ".join(
+            w for w, m in (("magnetic tracks", magnetic), ("WiFi", wifi)) if m is not None
+        )
+        raise NotApplicableError(
+            f"{who}: the walk survey of site {site.name!r} has no usable {wanted}"
+        )
+    return mag_out, wifi_out
+
+
+def labelled_walks(train: Sequence[Recording]) -> list[Recording]:
+    """The training walks that carry an accelerometer, truth and true steps."""
+    return [r for r in train if {"accel", "truth", "steps"} <= set(r.streams) and len(r.accel)]
+
+
+def replay_dr(dr: GaitDeadReckoning, rec: Recording) -> list[GaitStep]:
+    """Dead reckoning (a copy of ``dr``) over a whole labelled walk in one chunk."""
+    dr = copy.deepcopy(dr)
+    dr.reset(float(rec.truth["heading"].iloc[0]))
+    acc = rec.accel
+    t = acc.index.to_numpy(dtype=float)
+    return dr.update(
+        t,
+        acc[["x", "y", "z"]].to_numpy(dtype=float),
+        _at(rec, "gyro", t),
+        _at(rec, "gravity", t),
+    )
+
+
+def calibrate_length_scale(dr: GaitDeadReckoning, train: Sequence[Recording]) -> None:
+    """Fit ``dr``'s length scale on its detected steps paired with the true steps.
+
+    Steps are paired by time (:func:`~indoorsim.estimators.pipelines.han2023.match_steps`);
+    with fewer than a handful of pairs the scale is left as it is.
+
+    Args:
+        dr: the dead reckoning to calibrate (in place).
+        train: labelled walks (:func:`labelled_walks`).
+    """
+    matched: list[GaitStep] = []
+    lengths: list[NDArray[np.float64]] = []
+    for rec in train:
+        s, lens = match_steps(
+            replay_dr(dr, rec),
+            rec.steps.index.to_numpy(dtype=float),
+            rec.steps["length"].to_numpy(float),
+        )
+        matched += s
+        lengths.append(lens)
+    if len(matched) >= _MIN_SAMPLES:
+        dr.calibrate(matched, np.concatenate(lengths))
+
+
+@dataclass(frozen=True)
+class FixErrors:
+    """What the front end got wrong on labelled walks, pooled over the walks.
+
+    Attributes:
+        magnetic_m: distances from each magnetic fix to the true position at its step, m.
+        wifi_m: the same for the WiFi fixes, m.
+        step_length_m: detected minus true length of each matched step, m.
+        heading_walk_rad: changes of dead reckoning's heading error over
+            ``_HEADING_LAG_STEPS`` steps, divided by √lag (a per-step random-walk rate).
+    """
+
+    magnetic_m: NDArray[np.float64]
+    wifi_m: NDArray[np.float64]
+    step_length_m: NDArray[np.float64]
+    heading_walk_rad: NDArray[np.float64]
+
+
+def replay_errors(
+    tracker: FixTracker,
+    dr: GaitDeadReckoning,
+    site: SiteContext,
+    train: Sequence[Recording],
+) -> FixErrors:
+    """Run (a copy of) the front end over labelled walks and collect its errors.
+
+    Args:
+        tracker: the front end; a deep copy is replayed, with a copy of ``dr``.
+        dr: the (calibrated) dead reckoning.
+        site: the site context (window length, APs).
+        train: labelled walks (:func:`labelled_walks`).
+    """
+    err_mm: list[float] = []
+    err_wifi: list[float] = []
+    err_len: list[float] = []
+    err_turn: list[float] = []
+    tracker = copy.deepcopy(tracker)
+    for rec in train:
+        windows = Windower(rec, site.window_samples, site.bssids)
+        tracker.dr = copy.deepcopy(dr)
+        tracker.reset(float(windows.t[0]), float(rec.truth["heading"].iloc[0]))
+        fixes = [f for obs in windows for f in tracker.process(obs)]
+        if not fixes:
+            continue
+        t = np.array([f.step.t for f in fixes])
+        true_xy = _truth_xy(rec, t)
+        for f, p in zip(fixes, true_xy, strict=True):
+            if f.magnetic is not None:
+                err_mm.append(float(np.linalg.norm(f.magnetic - p)))
+            if f.wifi is not None:
+                err_wifi.append(float(np.linalg.norm(f.wifi - p)))
+        ts = rec.truth.index.to_numpy(dtype=float)
+        true_h = np.interp(t, ts, np.unwrap(rec.truth["heading"].to_numpy(dtype=float)))
+        # Heading error at each step; its change over an even number of steps
+        # cancels the left/right sway that a single step's change is full of.
+        e = np.unwrap(wrap_angle(np.array([f.step.heading for f in fixes]) - true_h))
+        lag = _HEADING_LAG_STEPS
+        err_turn += list((e[lag:] - e[:-lag]) / np.sqrt(lag))
+        steps = [f.step for f in fixes]
+        s, lens = match_steps(
+            steps, rec.steps.index.to_numpy(dtype=float), rec.steps["length"].to_numpy(float)
+        )
+        err_len += [st.length - L for st, L in zip(s, lens, strict=True)]
+    return FixErrors(
+        magnetic_m=np.array(err_mm),
+        wifi_m=np.array(err_wifi),
+        step_length_m=np.array(err_len),
+        heading_walk_rad=np.array(err_turn),
+    )
+
+
+def fix_variance_m2(distances_m: NDArray[np.float64], default: float) -> float:
+    """R of a source's fixes: the ML per-axis variance of an isotropic 2-D Gaussian.
+
+    R = mean(d²)/2 over the fixes' distances to the truth, floored at (0.5 m)²;
+    ``default`` with fewer than a handful of fixes.
+    """
+    if len(distances_m) < _MIN_SAMPLES:
+        return default
+    # R = mean(d²)/2: the ML variance per axis of an isotropic 2-D Gaussian fix.
+    return max(float(np.mean(np.square(distances_m))) / 2.0, _MIN_R_M2)
+
+
+def noise_std(errors: NDArray[np.float64], default: float, floor: float) -> float:
+    """RMS of the errors, floored; ``default`` with fewer than a handful of them."""
+    if len(errors) < _MIN_SAMPLES:
+        return default
+    return max(_rms(errors), floor)
 
 
 def _truth_xy(rec: Recording, t: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -515,33 +718,21 @@ class Chen2022Cpf:
             NotApplicableError: without a walk survey, or when it lacks what
                 the enabled likelihoods need (magnetic tracks, WiFi references).
         """
-        surveys = _walk_surveys(site, self.survey, self.name)
-        magnetic = wifi = None
-        if self.use_magnetic:
-            try:
-                tracks = [
-                    track
-                    for tables in surveys
-                    for track in reference_tracks(tables["magnetic"], self.spacing_m)
-                ]
-            except ValueError as err:
-                raise NotApplicableError(f"{self.name}: {err}") from None
-            if tracks:
-                magnetic = MagneticSequenceMatcher(matcher=self.matcher, k=self.magnetic_k)
-                magnetic.fit(tracks)
-        if self.use_wifi:
-            paths = [r for t in surveys if (r := _wifi_references(t, site.bssids)) is not None]
-            if paths:
-                wifi = WifiSequenceMatcher(scans=self.wifi_scans, k=self.wifi_k).fit(paths)
-        if magnetic is None and wifi is None:
-            wanted = " and ".join(
-                w
-                for w, on in (("magnetic tracks", self.use_magnetic), ("WiFi", self.use_wifi))
-                if on
-            )
-            raise NotApplicableError(
-                f"{self.name}: the walk survey of site {site.name!r} has no usable {wanted}"
-            )
+        surveys = walk_surveys(site, self.survey, self.name)
+        magnetic, wifi = fit_survey_matchers(
+            site,
+            surveys,
+            magnetic=(
+                MagneticSequenceMatcher(matcher=self.matcher, k=self.magnetic_k)
+                if self.use_magnetic
+                else None
+            ),
+            wifi=(
+                WifiSequenceMatcher(scans=self.wifi_scans, k=self.wifi_k) if self.use_wifi else None
+            ),
+            spacing_m=self.spacing_m,
+            who=self.name,
+        )
         self._plan = site.plan
         alpha = 1.0 - float(np.exp(-1.0 / (site.imu_rate_hz * self.gravity_tau_s)))
         self._tracker = FixTracker(
@@ -555,83 +746,21 @@ class Chen2022Cpf:
         self.dr.length_scale = self._length_scale
         self.r_magnetic_m2, self.r_wifi_m2 = DEFAULT_R_MAGNETIC_M2, DEFAULT_R_WIFI_M2
         self.sigma_step_m, self.sigma_heading_rad = DEFAULT_SIGMA_STEP_M, DEFAULT_SIGMA_HEADING_RAD
-        labelled = [
-            r for r in train if {"accel", "truth", "steps"} <= set(r.streams) and len(r.accel)
-        ]
+        labelled = labelled_walks(train)
         if self.calibrate and labelled:
-            self._calibrate_length(labelled)
+            calibrate_length_scale(self.dr, labelled)
             self._calibrate_noise(site, labelled)
-
-    def _calibrate_length(self, train: Sequence[Recording]) -> None:
-        """Fit the DR length scale on detected steps paired with the true steps."""
-        matched: list[GaitStep] = []
-        lengths: list[NDArray[np.float64]] = []
-        for rec in train:
-            steps = self._replay_dr(rec)
-            s, lens = match_steps(
-                steps, rec.steps.index.to_numpy(dtype=float), rec.steps["length"].to_numpy(float)
-            )
-            matched += s
-            lengths.append(lens)
-        if len(matched) >= _MIN_SAMPLES:
-            self.dr.calibrate(matched, np.concatenate(lengths))
-
-    def _replay_dr(self, rec: Recording) -> list[GaitStep]:
-        """Dead reckoning over a whole training walk in one chunk."""
-        dr = copy.deepcopy(self.dr)
-        dr.reset(float(rec.truth["heading"].iloc[0]))
-        acc = rec.accel
-        t = acc.index.to_numpy(dtype=float)
-        return dr.update(
-            t,
-            acc[["x", "y", "z"]].to_numpy(dtype=float),
-            _at(rec, "gyro", t),
-            _at(rec, "gravity", t),
-        )
 
     def _calibrate_noise(self, site: SiteContext, train: Sequence[Recording]) -> None:
         """R per source, G_φ and the step-length noise from replays of the training walks."""
         assert self._tracker is not None
-        err_mm: list[float] = []
-        err_wifi: list[float] = []
-        err_len: list[float] = []
-        err_turn: list[float] = []
-        tracker = copy.deepcopy(self._tracker)
-        for rec in train:
-            windows = Windower(rec, site.window_samples, site.bssids)
-            tracker.dr = copy.deepcopy(self.dr)
-            tracker.reset(float(windows.t[0]), float(rec.truth["heading"].iloc[0]))
-            fixes = [f for obs in windows for f in tracker.process(obs)]
-            if not fixes:
-                continue
-            t = np.array([f.step.t for f in fixes])
-            true_xy = _truth_xy(rec, t)
-            for f, p in zip(fixes, true_xy, strict=True):
-                if f.magnetic is not None:
-                    err_mm.append(float(np.linalg.norm(f.magnetic - p)))
-                if f.wifi is not None:
-                    err_wifi.append(float(np.linalg.norm(f.wifi - p)))
-            ts = rec.truth.index.to_numpy(dtype=float)
-            true_h = np.interp(t, ts, np.unwrap(rec.truth["heading"].to_numpy(dtype=float)))
-            # Heading error at each step; its change over an even number of steps
-            # cancels the left/right sway that a single step's change is full of.
-            e = np.unwrap(wrap_angle(np.array([f.step.heading for f in fixes]) - true_h))
-            lag = _HEADING_LAG_STEPS
-            err_turn += list((e[lag:] - e[:-lag]) / np.sqrt(lag))
-            steps = [f.step for f in fixes]
-            s, lens = match_steps(
-                steps, rec.steps.index.to_numpy(dtype=float), rec.steps["length"].to_numpy(float)
-            )
-            err_len += [st.length - L for st, L in zip(s, lens, strict=True)]
-        # R = mean(d²)/2: the ML variance per axis of an isotropic 2-D Gaussian fix.
-        if len(err_mm) >= _MIN_SAMPLES:
-            self.r_magnetic_m2 = max(float(np.mean(np.square(err_mm))) / 2.0, _MIN_R_M2)
-        if len(err_wifi) >= _MIN_SAMPLES:
-            self.r_wifi_m2 = max(float(np.mean(np.square(err_wifi))) / 2.0, _MIN_R_M2)
-        if len(err_len) >= _MIN_SAMPLES:
-            self.sigma_step_m = max(_rms(err_len), _MIN_SIGMA_STEP_M)
-        if len(err_turn) >= _MIN_SAMPLES:
-            self.sigma_heading_rad = max(_rms(err_turn), _MIN_SIGMA_HEADING_RAD)
+        e = replay_errors(self._tracker, self.dr, site, train)
+        self.r_magnetic_m2 = fix_variance_m2(e.magnetic_m, self.r_magnetic_m2)
+        self.r_wifi_m2 = fix_variance_m2(e.wifi_m, self.r_wifi_m2)
+        self.sigma_step_m = noise_std(e.step_length_m, self.sigma_step_m, _MIN_SIGMA_STEP_M)
+        self.sigma_heading_rad = noise_std(
+            e.heading_walk_rad, self.sigma_heading_rad, _MIN_SIGMA_HEADING_RAD
+        )
 
     # ------------------------------------------------------------------ episode
 
