@@ -200,3 +200,4 @@ def _load_builtins() -> None:
     importlib.import_module("indoorsim.estimators.pipelines.han2023")
     importlib.import_module("indoorsim.estimators.pipelines.chen2022")
     importlib.import_module("indoorsim.estimators.pipelines.chen2022_cited")
+    importlib.import_module("indoorsim.estimators.pipelines.learned_io")

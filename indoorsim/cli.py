@@ -11,6 +11,7 @@
     indoorsim plot recording walks/main-1 trace.txt --out plots/
     indoorsim dataset --sites 20 --walks-per-site 8 --minutes 10 --seed 0 \
         --workers 2 --out data/          # labelled Parquet shards on Dask (resumable)
+    indoorsim train --data data/ --out checkpoints/io --epochs 15   # the learned-io network
 
 Each subcommand is a pair of functions: ``_add_<command>(subparsers)`` declares
 its arguments and sets ``handler`` to ``_run_<command>(args) -> int``. Adding
@@ -958,6 +959,95 @@ def _run_dataset(args: argparse.Namespace) -> int:
     return 0
 
 
+# --------------------------------------------------------------------- train
+
+
+def _add_train(subparsers: _Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "train",
+        help="train the learned-io inertial-odometry network on a data set",
+        description="Train the small 1-D ResNet of the learned-io estimator (RoNIN-style "
+        "velocity regression) on the train split of an `indoorsim dataset` folder, scoring "
+        "the val split after each epoch. Writes the checkpoint folder --out (weights.pt, "
+        "tensors only, and model.json) atomically after every epoch; running the same "
+        "command again resumes an interrupted run. Seeded and deterministic on CPU for a "
+        "given --threads and --workers.",
+    )
+    parser.add_argument(
+        "--data", type=Path, required=True, metavar="DIR", help="a finished data set folder"
+    )
+    parser.add_argument(
+        "--out", type=Path, required=True, metavar="DIR", help="the checkpoint folder to write"
+    )
+    parser.add_argument("--epochs", type=_positive(int), default=15, metavar="N")
+    parser.add_argument("--batch-size", type=_positive(int), default=128, metavar="B")
+    parser.add_argument(
+        "--lr", type=_positive(float), default=3e-3, metavar="LR", help="Adam's initial step"
+    )
+    parser.add_argument("--seed", type=_seed, default=0, metavar="S", help="seed (>= 0)")
+    parser.add_argument(
+        "--workers", type=_seed, default=0, metavar="W", help="DataLoader workers (default 0)"
+    )
+    parser.add_argument(
+        "--threads", type=_positive(int), default=1, metavar="T", help="torch threads (default 1)"
+    )
+    # The frames of indoorsim.estimators.nn.inertial.FRAMES, spelled out so that
+    # building the parser does not import torch.
+    parser.add_argument(
+        "--frame",
+        choices=("world", "gravity_aligned"),
+        default="world",
+        help="input frame (default world)",
+    )
+    parser.add_argument(
+        "--overwrite", action="store_true", help="replace a checkpoint of another run at --out"
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress bar or epoch lines")
+    parser.set_defaults(handler=_run_train)
+
+
+def _run_train(args: argparse.Namespace) -> int:
+    from indoorsim.training import TrainConfig, TrainingFolderError, describe, train
+
+    try:
+        config = TrainConfig(
+            epochs=args.epochs,
+            batch_size=args.batch_size,
+            lr=args.lr,
+            seed=args.seed,
+            frame=args.frame,
+            workers=args.workers,
+            threads=args.threads,
+        )
+    except ValueError as err:
+        raise CliError(str(err)) from None
+    if not args.data.is_dir():
+        raise CliError(f"--data {args.data}: not a folder")
+    command = " ".join(
+        [
+            "indoorsim train",
+            f"--data {args.data} --out {args.out}",
+            f"--epochs {args.epochs} --batch-size {args.batch_size} --lr {args.lr:g}",
+            f"--seed {args.seed} --workers {args.workers} --threads {args.threads}",
+            f"--frame {args.frame}",
+        ]
+    )
+    try:
+        report = train(
+            args.data,
+            args.out,
+            config,
+            overwrite=args.overwrite,
+            progress=False if args.quiet else None,
+            log=None if args.quiet else lambda line: print(line, file=sys.stderr),
+            command=command,
+        )
+    except TrainingFolderError as err:
+        raise CliError(str(err)) from None
+    print(textwrap.fill(describe(report), width=88, break_on_hyphens=False))
+    return 0
+
+
 _PLOT_TARGETS: tuple[Callable[[_Subparsers], None], ...] = (_add_plot_site, _add_plot_recording)
 """What ``indoorsim plot`` can draw; each entry adds one ``plot <target>`` subcommand."""
 
@@ -968,6 +1058,7 @@ _COMMANDS: tuple[Callable[[_Subparsers], None], ...] = (
     _add_evaluate,
     _add_leaderboard,
     _add_dataset,
+    _add_train,
     _add_plot,
 )
 """The subcommands, in the order ``indoorsim --help`` lists them."""

@@ -1,0 +1,249 @@
+"""``learned-io``: a learned inertial-odometry baseline (RoNIN-style velocity regression).
+
+A small 1-D ResNet (:mod:`indoorsim.estimators.nn.inertial`) reads the last
+two seconds of accelerometer and gyroscope samples, rotated into the world
+frame by the phone's own fused rotation vector, and regresses the walker's
+mean horizontal velocity; the estimator turns that velocity from the
+rotation vector's world frame (x magnetic east, y magnetic north) into the
+building frame and integrates it over each observation window. Heading thus
+comes from the phone's fused attitude (magnetic disturbances included), speed
+and walking direction relative to the phone from the network: no step
+detection, no step-length model, no calibration on the site.
+
+The network is trained offline on generated buildings (``indoorsim train``),
+never in :meth:`LearnedIO.fit`, which only loads a checkpoint.
+
+The packaged checkpoint
+-----------------------
+
+``indoorsim/estimators/nn/checkpoints/learned_io/`` (``weights.pt`` and
+``model.json``, 330 kB) was made by this command pair, run from the
+repository's root (3 minutes for the data and 2 for training on 2 shared
+cores; the commands, per-epoch losses and versions are in its ``model.json``)::
+
+    indoorsim dataset --config estimators/nn/checkpoints/learned_io-dataset.yaml \\
+        --sites 30 --walks-per-site 3 --minutes 5 --seed 7 --workers 2 --out /tmp/io_data
+    indoorsim train --data /tmp/io_data --out estimators/nn/checkpoints/learned_io \\
+        --epochs 15 --batch-size 128 --lr 0.003 --seed 0 --workers 0 --threads 1 --frame world
+
+7.5 hours of walking in 30 generated buildings (no bundled scenario, so the
+leaderboard's buildings are unseen), six phone models, four carrying modes
+with changes, the IMU at 50 Hz in 2 s windows every 1 s: 26 814 windows,
+24 sites to train on, 3 to validate, 3 to test. Final losses (m²/s², mean
+of both velocity components): train 0.0108, val 0.0134, test 0.0100 — an
+RMS velocity error of about 0.11 m/s per axis. Training is deterministic on
+CPU: the command gives the same ``weights.pt`` bytes for the same
+``--threads`` and ``--workers`` (add ``--overwrite`` to retrain in place).
+
+Per window
+----------
+
+1. The window's valid accelerometer and gyroscope samples are rotated to the
+   checkpoint's frame with the observation's own fused ``rotation`` (never
+   the truth) — for a ``gravity_aligned`` checkpoint, the ``game_rotation``.
+2. If the walking phone's IMU rate (``SiteContext.imu_rate_hz``) differs
+   from the checkpoint's, the samples are resampled to the checkpoint's rate
+   by linear interpolation on their own timestamps (continuing across window
+   boundaries; no anti-alias filter, so a faster phone's noise above the
+   checkpoint's Nyquist frequency folds in).
+3. They join a rolling buffer of the checkpoint's window length. Until it is
+   full the estimate holds the start; the first prediction is integrated over
+   all the time since the start (the buffer spans it), later ones over the
+   time since the previous window's end — a stride of one observation window.
+4. The predicted velocity is turned by ``SiteContext.magnetic_to_building_rad``
+   (for a ``gravity_aligned`` checkpoint first by the window's mean yaw from
+   the game-rotation frame to the rotation-vector frame).
+
+Missing streams: without a gyroscope its channels are zeros (what the
+observation holds), which the network never saw: expect worse speeds.
+Without a rotation vector (or, for a ``gravity_aligned`` checkpoint, a game
+rotation vector — the observation has no presence flag for it, so a window
+whose game rotation is exactly the identity throughout counts as missing)
+there is no world frame: the position holds and the buffer is cleared, so
+the network never mixes frames.
+
+It exposes ``heading``: the direction of the latest predicted velocity in the
+building frame (held while the predicted speed is below ``min_speed_mps``;
+the start heading before the first prediction).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import ClassVar
+
+import numpy as np
+import torch
+from numpy.typing import NDArray
+
+from indoorsim import quaternion
+from indoorsim.estimators.base import (
+    Observation,
+    SiteContext,
+    StartInfo,
+    not_reset_error,
+    present_streams,
+    register,
+)
+from indoorsim.estimators.frames import to_world, wrap_angle
+from indoorsim.estimators.nn.inertial import Checkpoint, load_checkpoint
+from indoorsim.recording import Recording
+
+__all__ = ["LearnedIO"]
+
+# Rates closer than this (relative) count as equal: the samples go in as they are.
+_SAME_RATE = 1e-6
+_IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
+
+
+@register("learned-io")
+@dataclass(kw_only=True)
+class LearnedIO:
+    """Integrates the velocity a 1-D ResNet predicts from the fused-attitude IMU window.
+
+    Attributes:
+        checkpoint: a checkpoint folder (``indoorsim train --out``); None
+            takes the packaged one.
+        min_speed_mps: below this predicted speed ``heading`` holds (a
+            standing walker has no direction).
+    """
+
+    name: ClassVar[str] = "learned-io"
+
+    checkpoint: str | None = None
+    min_speed_mps: float = 0.1
+
+    _net: Checkpoint | None = field(default=None, init=False, repr=False, compare=False)
+    _to_building: float = field(default=0.0, init=False, repr=False, compare=False)
+    _resample: bool = field(default=False, init=False, repr=False, compare=False)
+    _position: NDArray[np.float64] | None = field(
+        default=None, init=False, repr=False, compare=False
+    )
+    _heading: float = field(default=0.0, init=False, repr=False, compare=False)
+    _buffer: NDArray[np.float64] = field(
+        default_factory=lambda: np.zeros((0, 6)), init=False, repr=False, compare=False
+    )
+    _t_done: float = field(default=0.0, init=False, repr=False, compare=False)
+    # Resampling state: the last input sample, the grid's origin and its next index.
+    _last: tuple[float, NDArray[np.float64]] | None = field(
+        default=None, init=False, repr=False, compare=False
+    )
+    _grid0: float = field(default=0.0, init=False, repr=False, compare=False)
+    _next_k: int = field(default=0, init=False, repr=False, compare=False)
+
+    @property
+    def heading(self) -> float:
+        """Direction of the latest predicted velocity, rad counter-clockwise from +x."""
+        return self._heading
+
+    def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
+        """Load the checkpoint and note the site's frames and the phone's IMU rate.
+
+        Nothing is learned here: the network was trained offline on other
+        buildings, and ``train`` is not used.
+
+        Raises:
+            CheckpointError: the checkpoint is missing, malformed or unsafe.
+        """
+        self._net = load_checkpoint(None if self.checkpoint is None else Path(self.checkpoint))
+        self._to_building = site.magnetic_to_building_rad
+        rate = self._net.imu_rate_hz
+        self._resample = abs(site.imu_rate_hz - rate) > _SAME_RATE * rate
+
+    def reset(self, start: StartInfo) -> None:
+        self._position = np.array(start.position, dtype=float)
+        self._heading = float(start.heading)
+        self._t_done = float(start.t0)
+        self._clear()
+
+    def _clear(self) -> None:
+        self._buffer = np.zeros((0, 6))
+        self._last = None
+        self._next_k = 0
+
+    def act(self, obs: Observation) -> NDArray[np.float64]:
+        if self._net is None:
+            raise RuntimeError(f"{self.name}: call fit(site, train) first (it loads the network)")
+        if self._position is None:
+            raise not_reset_error(self.name)
+        valid = obs["valid"].astype(bool)
+        t = obs["t"][valid]
+        if not len(t):
+            return self._position.copy()
+        attitude = self._attitude(obs, valid)
+        if attitude is None:
+            # No world frame: hold, and start the buffer afresh when it returns.
+            self._t_done = float(t[-1])
+            self._clear()
+            return self._position.copy()
+        imu = np.concatenate(
+            [to_world(attitude, obs["accel"][valid]), to_world(attitude, obs["gyro"][valid])],
+            axis=1,
+        )
+        if self._resample:
+            imu = self._regrid(t, imu)
+        w = self._net.window_samples
+        self._buffer = np.concatenate([self._buffer, imu])[-w:]
+        if len(self._buffer) < w:
+            return self._position.copy()
+        x = torch.from_numpy(np.ascontiguousarray(self._buffer.T[None], dtype=np.float32))
+        with torch.inference_mode():
+            v = self._net.model(x)[0].double().numpy()
+        angle = self._to_building
+        if self._net.frame == "gravity_aligned":
+            angle += self._game_to_world_yaw(obs, valid)
+        c, s = math.cos(angle), math.sin(angle)
+        v = np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+        self._position += v * (float(t[-1]) - self._t_done)
+        self._t_done = float(t[-1])
+        if np.hypot(v[0], v[1]) >= self.min_speed_mps:
+            self._heading = float(wrap_angle(math.atan2(v[1], v[0])))
+        return self._position.copy()
+
+    def _attitude(self, obs: Observation, valid: NDArray[np.bool_]) -> NDArray | None:
+        """The quaternions that rotate the window into the checkpoint's frame, or None."""
+        assert self._net is not None
+        if not present_streams(obs)["rotation"]:
+            return None
+        if self._net.frame == "world":
+            return obs["rotation"][valid]
+        game = obs["game_rotation"][valid]
+        if np.array_equal(game, np.broadcast_to(_IDENTITY, game.shape)):
+            return None
+        return game
+
+    @staticmethod
+    def _game_to_world_yaw(obs: Observation, valid: NDArray[np.bool_]) -> float:
+        """Mean yaw from the game-rotation frame to the rotation vector's frame.
+
+        Both fused attitudes are gravity-aligned, so q_rot ⊗ q_game* is a turn
+        about the vertical; its angle is averaged on the circle.
+        """
+        rel = quaternion.multiply(
+            obs["rotation"][valid], quaternion.conjugate(obs["game_rotation"][valid])
+        )
+        yaw = 2.0 * np.arctan2(rel[:, 3], rel[:, 0])
+        return float(np.angle(np.exp(1j * yaw).mean()))
+
+    def _regrid(self, t: NDArray[np.float64], imu: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Samples at the checkpoint's rate, interpolated linearly on the samples' own times.
+
+        The grid starts at the first sample of the episode (or of the world
+        frame's return) and continues across windows; the previous window's
+        last sample joins this one's, so no grid point falls in a gap.
+        """
+        assert self._net is not None
+        rate = self._net.imu_rate_hz
+        if self._last is None:
+            self._grid0, self._next_k = float(t[0]), 0
+        else:
+            t = np.r_[self._last[0], t]
+            imu = np.vstack([self._last[1], imu])
+        self._last = (float(t[-1]), imu[-1].copy())
+        last_k = math.floor((t[-1] - self._grid0) * rate + 1e-9)
+        grid = self._grid0 + np.arange(self._next_k, last_k + 1) / rate
+        self._next_k = max(self._next_k, last_k + 1)
+        return np.column_stack([np.interp(grid, t, imu[:, c]) for c in range(imu.shape[1])])
