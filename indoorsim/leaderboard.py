@@ -294,7 +294,8 @@ def write_provenance(out: Path, config: dict[str, Any]) -> None:
 BASELINES = ("start-only", "pdr-basic", "wknn-mag")
 HAN2023 = ("han2023-pdr", "han2023-gm", "han2023-gml", "han2023-fusion")
 CHEN2022 = ("dr-wifi", "dr-mm", "pf", "chen2022-cpf", "edtw-rekf", "apf", "wimag")
-PIPELINES = HAN2023 + CHEN2022
+LEARNED = ("learned-io",)
+PIPELINES = HAN2023 + CHEN2022 + LEARNED
 MODES = ("handheld", "calling", "dangling", "pocketed")
 SCENARIOS = ("han2023_basement", "han2023_corridor", "chen2022_lab", "chen2022_office")
 REALDATA = REPO.parent / "shared" / "realdata"
@@ -374,14 +375,17 @@ def _jsonable_config(config: BoardConfig) -> dict[str, Any]:
 
 
 # Constructor parameters for the real logs: their map is not tied to north, so
-# han2023-pdr takes its magnetometer offset from the known start heading.
-REAL_DATA_PARAMS: dict[str, dict[str, Any]] = {"han2023-pdr": {"mag_frame": "start"}}
+# the estimators that use magnetic north take its offset from the start heading.
+REAL_DATA_PARAMS: dict[str, dict[str, Any]] = {
+    "han2023-pdr": {"mag_frame": "start"},
+    "learned-io": {"frame_offset": "start"},
+}
 
 
 def write_real_data(
     out: Path,
     *,
-    estimators: Sequence[str] = ("pdr-basic", "han2023-pdr"),
+    estimators: Sequence[str] = ("pdr-basic", "han2023-pdr", "learned-io"),
     progress: Progress | None = None,
 ) -> pd.DataFrame:
     """Real Indoor Location Competition traces scored at their waypoints, a row per estimator.

@@ -109,15 +109,23 @@ class LearnedIO:
             takes the packaged one.
         min_speed_mps: below this predicted speed ``heading`` holds (a
             standing walker has no direction).
+        frame_offset: ``"site"`` turns the network's magnetic-world velocity
+            into the building frame with the site's north and declination;
+            ``"start"`` instead turns the episode's first confident velocity
+            (speed ≥ ``min_speed_mps``) onto the known start heading — for
+            real logs whose map is not tied to north.
     """
 
     name: ClassVar[str] = "learned-io"
 
     checkpoint: str | None = None
     min_speed_mps: float = 0.1
+    frame_offset: str = "site"
 
     _net: Checkpoint | None = field(default=None, init=False, repr=False, compare=False)
     _to_building: float = field(default=0.0, init=False, repr=False, compare=False)
+    _site_offset: float = field(default=0.0, init=False, repr=False, compare=False)
+    _align_pending: bool = field(default=False, init=False, repr=False, compare=False)
     _resample: bool = field(default=False, init=False, repr=False, compare=False)
     _position: NDArray[np.float64] | None = field(
         default=None, init=False, repr=False, compare=False
@@ -139,6 +147,10 @@ class LearnedIO:
         """Direction of the latest predicted velocity, rad counter-clockwise from +x."""
         return self._heading
 
+    def __post_init__(self) -> None:
+        if self.frame_offset not in ("site", "start"):
+            raise ValueError(f"frame_offset must be 'site' or 'start', got {self.frame_offset!r}")
+
     def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
         """Load the checkpoint and note the site's frames and the phone's IMU rate.
 
@@ -149,7 +161,7 @@ class LearnedIO:
             CheckpointError: the checkpoint is missing, malformed or unsafe.
         """
         self._net = load_checkpoint(None if self.checkpoint is None else Path(self.checkpoint))
-        self._to_building = site.magnetic_to_building_rad
+        self._site_offset = site.magnetic_to_building_rad
         rate = self._net.imu_rate_hz
         self._resample = abs(site.imu_rate_hz - rate) > _SAME_RATE * rate
 
@@ -157,6 +169,8 @@ class LearnedIO:
         self._position = np.array(start.position, dtype=float)
         self._heading = float(start.heading)
         self._t_done = float(start.t0)
+        self._to_building = self._site_offset
+        self._align_pending = self.frame_offset == "start"
         self._clear()
 
     def _clear(self) -> None:
@@ -195,6 +209,12 @@ class LearnedIO:
         angle = self._to_building
         if self._net.frame == "gravity_aligned":
             angle += self._game_to_world_yaw(obs, valid)
+        if self._align_pending and np.hypot(v[0], v[1]) >= self.min_speed_mps:
+            # The first confident velocity defines the map's rotation.
+            shift = float(wrap_angle(self._heading - math.atan2(v[1], v[0]) - angle))
+            self._to_building += shift
+            angle += shift
+            self._align_pending = False
         c, s = math.cos(angle), math.sin(angle)
         v = np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
         self._position += v * (float(t[-1]) - self._t_done)
