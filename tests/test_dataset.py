@@ -39,6 +39,11 @@ CONFIG = {
 }
 
 
+def _dataset_argv(config_file: Path, workers: int) -> list[str]:
+    """``indoorsim dataset`` on the small config, quiet, without ``--out``."""
+    return ["dataset", *ARGS, "--config", str(config_file), "--workers", str(workers), "--quiet"]
+
+
 def _files(root: Path) -> dict[str, bytes]:
     """Every file of a data set but the run log, by relative path."""
     return {
@@ -59,8 +64,7 @@ def config_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def reference(tmp_path_factory: pytest.TempPathFactory, config_file: Path) -> Path:
     """The data set computed uninterrupted by two workers."""
     out = tmp_path_factory.mktemp("two_workers") / "data"
-    argv = ["dataset", *ARGS, "--config", str(config_file), "--workers", "2", "--quiet"]
-    assert main([*argv, "--out", str(out)]) == 0
+    assert main([*_dataset_argv(config_file, 2), "--out", str(out)]) == 0
     return out
 
 
@@ -150,22 +154,7 @@ def test_shard_schema_round_trip_matches_the_simulated_walk(tmp_path):
 
 def test_same_bytes_with_one_and_two_workers(tmp_path, reference, config_file):
     out = tmp_path / "data"
-    assert (
-        main(
-            [
-                "dataset",
-                *ARGS,
-                "--config",
-                str(config_file),
-                "--workers",
-                "1",
-                "--quiet",
-                "--out",
-                str(out),
-            ]
-        )
-        == 0
-    )
+    assert main([*_dataset_argv(config_file, 1), "--out", str(out)]) == 0
     one, two = _files(out), _files(reference)
     assert one.keys() == two.keys()
     assert len([k for k in one if k.endswith(".parquet")]) == 6
@@ -178,22 +167,10 @@ def test_same_bytes_with_one_and_two_workers(tmp_path, reference, config_file):
 
 def test_killed_run_resumes_without_losing_or_duplicating_shards(tmp_path, reference, config_file):
     out = tmp_path / "data"
-    argv = [
-        sys.executable,
-        "-m",
-        "indoorsim",
-        "dataset",
-        *ARGS,
-        "--config",
-        str(config_file),
-        "--workers",
-        "1",
-        "--quiet",
-        "--out",
-        str(out),
-    ]
+    argv = [*_dataset_argv(config_file, 1), "--out", str(out)]
     # Its own session, so that the kill takes the Dask worker processes too (a crash).
-    proc = subprocess.Popen(argv, start_new_session=True, stderr=subprocess.DEVNULL)
+    command = [sys.executable, "-m", "indoorsim", *argv]
+    proc = subprocess.Popen(command, start_new_session=True, stderr=subprocess.DEVNULL)
     try:
         deadline = time.monotonic() + 120
         while not list((out / "shards").glob("*.json")):
@@ -207,7 +184,7 @@ def test_killed_run_resumes_without_losing_or_duplicating_shards(tmp_path, refer
     assert 1 <= len(done_before) < 6
     assert not (out / CARD_JSON).exists()
 
-    assert main([*argv[3:], "--out", str(out)]) == 0
+    assert main(argv) == 0
     log = json.loads((out / RUN_LOG).read_text())
     assert log["skipped"] >= len(done_before) and log["skipped"] + log["computed"] == 6
     assert _files(out) == _files(reference)

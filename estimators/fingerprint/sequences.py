@@ -278,15 +278,24 @@ class MagneticSequenceMatcher:
         Returns:
             ``(distances (R,), ends (R, 2))``.
         """
+        q = self._query(query_hv)
+        refs, ends = self.windows(len(q))
+        return self._dtw(q, refs), ends
+
+    def _query(self, query_hv: ArrayLike) -> NDArray[np.float64]:
+        """The query as an (n, 2) array, n ≥ 3; ValueError if not, RuntimeError before ``fit``."""
         q = np.asarray(query_hv, dtype=float)
         if q.ndim != 2 or q.shape[1] != 2 or len(q) < 3:
             raise ValueError(f"the query must be (n, 2) with n ≥ 3, got {q.shape}")
         if not self.tracks:
             raise RuntimeError("call fit(tracks) first")
-        refs, ends = self.windows(len(q))
+        return q
+
+    def _dtw(self, q: NDArray[np.float64], refs: References) -> NDArray[np.float64]:
+        """The ``matcher``'s DTW distances of the query to the reference windows."""
         if self.matcher == "hv-ddtw":
-            return hv_ddtw_many(q, refs, window=self.band), ends
-        return dtw_many(q, refs, window=self.band), ends
+            return hv_ddtw_many(q, refs, window=self.band)
+        return dtw_many(q, refs, window=self.band)
 
     def match(self, query_hv: ArrayLike) -> tuple[NDArray[np.float64], float]:
         """The fix: WKNN (Eq. 21) of the k nearest windows' ends.

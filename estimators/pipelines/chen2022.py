@@ -110,7 +110,7 @@ from __future__ import annotations
 import copy
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal, TypeVar
 
 import numpy as np
 import pandas as pd
@@ -129,6 +129,7 @@ from indoorsim.estimators.base import (
 from indoorsim.estimators.filters import (
     ChickenParticleFilter,
     ParticleFilter,
+    PlanLike,
     gaussian_likelihood,
     literal_likelihood,
 )
@@ -148,6 +149,7 @@ from indoorsim.windows import Windower
 
 __all__ = [
     "Chen2022Cpf",
+    "Chen2022FrontEnd",
     "Chen2022Pf",
     "DrMm",
     "DrWifi",
@@ -186,6 +188,9 @@ _MIN_STEP_M = 1e-3
 
 # Dataclass options of internal state: not constructor arguments, not shown, not compared.
 _STATE: dict[str, bool] = {"init": False, "repr": False, "compare": False}
+
+
+_PF = TypeVar("_PF", bound=ParticleFilter)
 
 
 def _empty(width: int = 0) -> NDArray[np.float64]:
@@ -605,29 +610,26 @@ def _rms(x: Sequence[float] | NDArray[np.float64]) -> float:
     return float(np.sqrt(np.mean(np.square(x))))
 
 
-@register("chen2022-cpf")
 @dataclass(kw_only=True)
-class Chen2022Cpf:
-    """HV-DDTW + CPF: DR, magnetic and WiFi fixes fused by a chicken particle filter.
+class Chen2022FrontEnd:
+    """What Chen2022's estimators and the methods it compares against share: the front end.
 
-    See the module docstring for the pipeline and the readings taken.
+    ``fit`` loads the walk survey into the sequence matchers, builds the
+    :class:`FixTracker` over them and calibrates, on the labelled training
+    walks, the dead reckoning's length scale, the fixes' R and the filter
+    noises (module docstring); ``reset`` helpers start the tracker and a
+    particle filter at the known start. Subclasses say which matchers they
+    use (:meth:`_matchers`) and run their filter in ``reset`` and ``act``.
 
     Attributes:
-        fusion: ``"cpf"`` (chicken particle filter) or ``"pf"`` (plain).
-        use_magnetic: fuse magnetic fixes (q_MM).
-        use_wifi: fuse WiFi fixes (q_WiFi).
-        matcher: ``"hv-ddtw"`` (Alg. 1) or ``"md-dtw"`` (raw HV values; Fig. 8).
         query_steps: steps per magnetic query.
         spacing_m: metre grid of the magnetic sequences.
         magnetic_k: neighbours of the magnetic WKNN (Eq. 21).
         wifi_scans: scans per WiFi profile.
         wifi_k: neighbours of the WiFi WKNN.
-        likelihood: ``"gaussian"`` exp(−d²/2R) or ``"literal"`` exp(−d) (Eq. 27).
-        n_particles: particles of the filter.
         sigma_xy: std of the position noises G_x, G_y per step, m.
-        ess_threshold: resample when N_eff < ess_threshold·N.
-        start_spread_m: std of the particles around the known start, m.
-        start_heading_spread_rad: std of their headings around the start heading, rad.
+        start_spread_m: std of the start position around the known start, m.
+        start_heading_spread_rad: std of the start heading around the known one, rad.
         calibrate: estimate the DR length scale, R and the filter noises in
             ``fit`` from the training walks (else the defaults).
         gravity_tau_s: time constant of the accelerometer low-pass used when
@@ -635,28 +637,20 @@ class Chen2022Cpf:
         survey: the walk survey's database name; None: every database with
             a ``magnetic`` table (a site may survey several paths).
         dr: the dead reckoning (its parameters; its length scale is fitted).
-        r_magnetic_m2: after ``fit``, R of the magnetic likelihood, m².
-        r_wifi_m2: after ``fit``, R of the WiFi likelihood, m².
+        r_magnetic_m2: after ``fit``, R of the magnetic fixes, m².
+        r_wifi_m2: after ``fit``, R of the WiFi fixes, m².
         sigma_step_m: after ``fit``, the step-length noise, m.
-        sigma_heading_rad: after ``fit``, G_φ, rad.
-        particle_filter: during and after an episode, the filter and its particles.
+        sigma_heading_rad: after ``fit``, G_φ, the heading random walk per step, rad.
     """
 
-    name: ClassVar[str] = "chen2022-cpf"
+    name: ClassVar[str] = ""
 
-    fusion: Literal["cpf", "pf"] = "cpf"
-    use_magnetic: bool = True
-    use_wifi: bool = True
-    matcher: Literal["hv-ddtw", "md-dtw"] = "hv-ddtw"
     query_steps: int = 16
     spacing_m: float = 0.2
     magnetic_k: int = 4
     wifi_scans: int = 2
     wifi_k: int = 3
-    likelihood: Literal["gaussian", "literal"] = "gaussian"
-    n_particles: int = 1000
     sigma_xy: float = 0.1
-    ess_threshold: float = 0.5
     start_spread_m: float = 0.3
     start_heading_spread_rad: float = 0.1
     calibrate: bool = True
@@ -668,41 +662,19 @@ class Chen2022Cpf:
     r_wifi_m2: float = field(default=DEFAULT_R_WIFI_M2, init=False)
     sigma_step_m: float = field(default=DEFAULT_SIGMA_STEP_M, init=False)
     sigma_heading_rad: float = field(default=DEFAULT_SIGMA_HEADING_RAD, init=False)
-    particle_filter: ParticleFilter | None = field(
-        default=None, init=False, repr=False, compare=False
-    )
-    _plan: object = field(default=None, init=False, repr=False, compare=False)
-    _tracker: FixTracker | None = field(default=None, init=False, repr=False, compare=False)
-    _rng: np.random.Generator | None = field(default=None, init=False, repr=False, compare=False)
-    _position: NDArray[np.float64] | None = field(
-        default=None, init=False, repr=False, compare=False
-    )
-    _length_scale: float = field(default=1.0, init=False, repr=False, compare=False)
+    _plan: PlanLike | None = field(default=None, **_STATE)
+    _tracker: FixTracker | None = field(default=None, **_STATE)
+    # The episode's generator, for the filters that sample.
+    _rng: np.random.Generator | None = field(default=None, **_STATE)
+    _position: NDArray[np.float64] | None = field(default=None, **_STATE)
+    _length_scale: float = field(default=1.0, **_STATE)
 
     def __post_init__(self) -> None:
         # The configured scale, restored by every fit before it calibrates (or not).
         self._length_scale = float(self.dr.length_scale)
-        if self.fusion not in ("cpf", "pf"):
-            raise ValueError(f"fusion must be 'cpf' or 'pf', got {self.fusion!r}")
-        if self.likelihood not in ("gaussian", "literal"):
-            raise ValueError(f"likelihood must be 'gaussian' or 'literal', got {self.likelihood!r}")
-        if not (self.use_magnetic or self.use_wifi):
-            raise ValueError("use_magnetic and use_wifi cannot both be False")
         if self.query_steps < 1 or self.spacing_m <= 0:
             raise ValueError("need query_steps ≥ 1 and spacing_m > 0")
-        # Validates matcher, k and scans early.
-        MagneticSequenceMatcher(matcher=self.matcher, k=self.magnetic_k)
-        WifiSequenceMatcher(scans=self.wifi_scans, k=self.wifi_k)
-
-    # ------------------------------------------------------------------ outputs
-
-    @property
-    def heading(self) -> float:
-        """The particles' weighted circular mean heading, rad counter-clockwise from +x."""
-        pf = self.particle_filter
-        if pf is None or not len(pf.w):
-            return float(self.dr.heading)
-        return float(np.arctan2(pf.w @ np.sin(pf.heading), pf.w @ np.cos(pf.heading)))
+        self._matchers()  # validates the matcher options early
 
     @property
     def step_count(self) -> int:
@@ -711,38 +683,50 @@ class Chen2022Cpf:
 
     # ---------------------------------------------------------------------- fit
 
+    def _matchers(self) -> tuple[MagneticSequenceMatcher | None, WifiSequenceMatcher | None]:
+        """Unfitted magnetic and WiFi matchers of the method (None: not used)."""
+        raise NotImplementedError
+
+    def _new_tracker(
+        self,
+        magnetic: MagneticSequenceMatcher | None,
+        wifi: WifiSequenceMatcher | None,
+        gravity_alpha: float,
+    ) -> FixTracker:
+        """The front end over the fitted matchers (a subclass may return a FixTracker subclass)."""
+        return FixTracker(**self._tracker_options(magnetic, wifi, gravity_alpha))
+
+    def _tracker_options(
+        self,
+        magnetic: MagneticSequenceMatcher | None,
+        wifi: WifiSequenceMatcher | None,
+        gravity_alpha: float,
+    ) -> dict[str, Any]:
+        """The :class:`FixTracker` arguments: dead reckoning, matchers and query options."""
+        return {
+            "dr": self.dr,
+            "magnetic": magnetic,
+            "wifi": wifi,
+            "query_steps": self.query_steps,
+            "spacing_m": self.spacing_m,
+            "gravity_alpha": gravity_alpha,
+        }
+
     def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
-        """Load the walk survey; calibrate DR, likelihoods and noises on the training walks.
+        """Load the walk survey; calibrate DR, fix variances and noises on the training walks.
 
         Raises:
             NotApplicableError: without a walk survey, or when it lacks what
-                the enabled likelihoods need (magnetic tracks, WiFi references).
+                the method's fixes need (magnetic tracks, WiFi references).
         """
         surveys = walk_surveys(site, self.survey, self.name)
+        magnetic, wifi = self._matchers()
         magnetic, wifi = fit_survey_matchers(
-            site,
-            surveys,
-            magnetic=(
-                MagneticSequenceMatcher(matcher=self.matcher, k=self.magnetic_k)
-                if self.use_magnetic
-                else None
-            ),
-            wifi=(
-                WifiSequenceMatcher(scans=self.wifi_scans, k=self.wifi_k) if self.use_wifi else None
-            ),
-            spacing_m=self.spacing_m,
-            who=self.name,
+            site, surveys, magnetic=magnetic, wifi=wifi, spacing_m=self.spacing_m, who=self.name
         )
         self._plan = site.plan
         alpha = 1.0 - float(np.exp(-1.0 / (site.imu_rate_hz * self.gravity_tau_s)))
-        self._tracker = FixTracker(
-            dr=self.dr,
-            magnetic=magnetic,
-            wifi=wifi,
-            query_steps=self.query_steps,
-            spacing_m=self.spacing_m,
-            gravity_alpha=alpha,
-        )
+        self._tracker = self._new_tracker(magnetic, wifi, alpha)
         self.dr.length_scale = self._length_scale
         self.r_magnetic_m2, self.r_wifi_m2 = DEFAULT_R_MAGNETIC_M2, DEFAULT_R_WIFI_M2
         self.sigma_step_m, self.sigma_heading_rad = DEFAULT_SIGMA_STEP_M, DEFAULT_SIGMA_HEADING_RAD
@@ -755,38 +739,135 @@ class Chen2022Cpf:
         """R per source, G_φ and the step-length noise from replays of the training walks."""
         assert self._tracker is not None
         e = replay_errors(self._tracker, self.dr, site, train)
+        self._set_noise(e.step_length_m, e.heading_walk_rad)
         self.r_magnetic_m2 = fix_variance_m2(e.magnetic_m, self.r_magnetic_m2)
         self.r_wifi_m2 = fix_variance_m2(e.wifi_m, self.r_wifi_m2)
-        self.sigma_step_m = noise_std(e.step_length_m, self.sigma_step_m, _MIN_SIGMA_STEP_M)
+
+    def _set_noise(self, step_err: NDArray[np.float64], heading_walk: NDArray[np.float64]) -> None:
+        """The step-length noise and G_φ from replayed errors (:func:`noise_std`)."""
+        self.sigma_step_m = noise_std(step_err, self.sigma_step_m, _MIN_SIGMA_STEP_M)
         self.sigma_heading_rad = noise_std(
-            e.heading_walk_rad, self.sigma_heading_rad, _MIN_SIGMA_HEADING_RAD
+            heading_walk, self.sigma_heading_rad, _MIN_SIGMA_HEADING_RAD
         )
 
     # ------------------------------------------------------------------ episode
 
-    def reset(self, start: StartInfo) -> None:
+    def _start(self, start: StartInfo) -> FixTracker:
+        """Reset the front end at the start; returns the tracker (RuntimeError before ``fit``)."""
         if self._tracker is None:
             raise RuntimeError(f"{self.name}: call fit(site, train) first (it needs a walk survey)")
-        cls = ChickenParticleFilter if self.fusion == "cpf" else ParticleFilter
-        self.particle_filter = cls(
-            n_particles=self.n_particles,
+        self._tracker.reset(float(start.t0), float(start.heading))
+        self._position = np.array(start.position, dtype=float)
+        return self._tracker
+
+    def _start_particles(
+        self,
+        cls: type[_PF],
+        start: StartInfo,
+        *,
+        n_particles: int,
+        ess_threshold: float,
+        plan: PlanLike | None,
+        **options: object,
+    ) -> _PF:
+        """A ``cls`` particle filter with the fitted noises, its particles drawn around the start.
+
+        Args:
+            cls: the particle filter class.
+            start: the episode's start; its seed seeds a new generator (``_rng``).
+            n_particles: particles of the filter.
+            ess_threshold: resample when N_eff < ess_threshold·N.
+            plan: the floor plan of the wall rule, or None for none.
+            **options: further arguments of ``cls``.
+        """
+        pf = cls(
+            n_particles=n_particles,
             sigma_heading=self.sigma_heading_rad,
             sigma_step=self.sigma_step_m,
             sigma_xy=self.sigma_xy,
-            ess_threshold=self.ess_threshold,
-            plan=self._plan,  # type: ignore[arg-type]
+            ess_threshold=ess_threshold,
+            plan=plan,
+            **options,
         )
         # One generator per episode, from the episode's seed: same episode, same estimates.
         self._rng = np.random.default_rng(np.random.SeedSequence(start.seed))
-        self.particle_filter.initialise(
+        pf.initialise(
             start.position,
             heading=start.heading,
             spread=self.start_spread_m,
             rng=self._rng,
             heading_spread=self.start_heading_spread_rad,
         )
-        self._tracker.reset(float(start.t0), float(start.heading))
-        self._position = np.array(start.position, dtype=float)
+        return pf
+
+    def _particle_heading(self, pf: ParticleFilter | None) -> float:
+        """The particles' weighted circular mean heading; dead reckoning's without particles."""
+        if pf is None or not len(pf.w):
+            return float(self.dr.heading)
+        return float(np.arctan2(pf.w @ np.sin(pf.heading), pf.w @ np.cos(pf.heading)))
+
+
+@register("chen2022-cpf")
+@dataclass(kw_only=True)
+class Chen2022Cpf(Chen2022FrontEnd):
+    """HV-DDTW + CPF: DR, magnetic and WiFi fixes fused by a chicken particle filter.
+
+    See the module docstring for the pipeline and the readings taken, and
+    :class:`Chen2022FrontEnd` for the front end's options and fitted values.
+
+    Attributes:
+        fusion: ``"cpf"`` (chicken particle filter) or ``"pf"`` (plain).
+        use_magnetic: fuse magnetic fixes (q_MM).
+        use_wifi: fuse WiFi fixes (q_WiFi).
+        matcher: ``"hv-ddtw"`` (Alg. 1) or ``"md-dtw"`` (raw HV values; Fig. 8).
+        likelihood: ``"gaussian"`` exp(−d²/2R) or ``"literal"`` exp(−d) (Eq. 27).
+        n_particles: particles of the filter.
+        ess_threshold: resample when N_eff < ess_threshold·N.
+        particle_filter: during and after an episode, the filter and its particles.
+    """
+
+    name: ClassVar[str] = "chen2022-cpf"
+
+    fusion: Literal["cpf", "pf"] = "cpf"
+    use_magnetic: bool = True
+    use_wifi: bool = True
+    matcher: Literal["hv-ddtw", "md-dtw"] = "hv-ddtw"
+    likelihood: Literal["gaussian", "literal"] = "gaussian"
+    n_particles: int = 1000
+    ess_threshold: float = 0.5
+    particle_filter: ParticleFilter | None = field(
+        default=None, init=False, repr=False, compare=False
+    )
+
+    def __post_init__(self) -> None:
+        if self.fusion not in ("cpf", "pf"):
+            raise ValueError(f"fusion must be 'cpf' or 'pf', got {self.fusion!r}")
+        if self.likelihood not in ("gaussian", "literal"):
+            raise ValueError(f"likelihood must be 'gaussian' or 'literal', got {self.likelihood!r}")
+        if not (self.use_magnetic or self.use_wifi):
+            raise ValueError("use_magnetic and use_wifi cannot both be False")
+        super().__post_init__()
+
+    def _matchers(self) -> tuple[MagneticSequenceMatcher | None, WifiSequenceMatcher | None]:
+        # Both are built (and so validated) even when a likelihood is switched off.
+        magnetic = MagneticSequenceMatcher(matcher=self.matcher, k=self.magnetic_k)
+        wifi = WifiSequenceMatcher(scans=self.wifi_scans, k=self.wifi_k)
+        return (magnetic if self.use_magnetic else None, wifi if self.use_wifi else None)
+
+    @property
+    def heading(self) -> float:
+        """The particles' weighted circular mean heading, rad counter-clockwise from +x."""
+        return self._particle_heading(self.particle_filter)
+
+    def reset(self, start: StartInfo) -> None:
+        self._start(start)
+        self.particle_filter = self._start_particles(
+            ChickenParticleFilter if self.fusion == "cpf" else ParticleFilter,
+            start,
+            n_particles=self.n_particles,
+            ess_threshold=self.ess_threshold,
+            plan=self._plan,
+        )
 
     def act(self, obs: Observation) -> NDArray[np.float64]:
         if self._position is None or self._tracker is None or self.particle_filter is None:
@@ -839,19 +920,17 @@ class Chen2022Pf(Chen2022Cpf):
 
 @register("dr-wifi")
 @dataclass(kw_only=True)
-class DrWifi(Chen2022Cpf):
+class DrWifi(Chen2022Pf):
     """DR + WiFi matching (Table 1): the plain PF with the WiFi likelihood only."""
 
     name: ClassVar[str] = "dr-wifi"
-    fusion: Literal["cpf", "pf"] = "pf"
     use_magnetic: bool = False
 
 
 @register("dr-mm")
 @dataclass(kw_only=True)
-class DrMm(Chen2022Cpf):
+class DrMm(Chen2022Pf):
     """DR + HV-DDTW magnetic matching (Table 1): the plain PF with the magnetic likelihood only."""
 
     name: ClassVar[str] = "dr-mm"
-    fusion: Literal["cpf", "pf"] = "pf"
     use_wifi: bool = False

@@ -18,12 +18,13 @@ abstract of doi:10.3390/s21248228 on MDPI and DOAJ) and, for WiMag, whose
 text and abstract we could not find, its title and the sentence Chen2022's
 related work gives it. Everything else is a reading of ours, listed below and
 marked in each class. All three share Chen2022's front end
-(:class:`~indoorsim.estimators.pipelines.chen2022.FixTracker`): the same gait
-dead reckoning, the same walk survey, the same query lengths and grid, and
-the same way of fitting likelihood and noise scales on the labelled training
-walks (:func:`~indoorsim.estimators.pipelines.chen2022.replay_errors`), so
-that the comparison is on equal terms; what differs is what each cited paper
-says differs.
+(:class:`~indoorsim.estimators.pipelines.chen2022.Chen2022FrontEnd`, its
+options and fitted values): the same gait dead reckoning, the same walk
+survey, the same query lengths and grid, and the same way of fitting
+likelihood and noise scales on the labelled training walks
+(:func:`~indoorsim.estimators.pipelines.chen2022.replay_errors`), so that the
+comparison is on equal terms; what differs is what each cited paper says
+differs.
 
 EDTW + REKF
 -----------
@@ -130,7 +131,6 @@ from indoorsim.estimators.filters import ParticleFilter, gaussian_likelihood
 from indoorsim.estimators.fingerprint.dtw import (
     DEFAULT_FLOOR_DBM,
     dtw_many,
-    hv_ddtw_many,
     weighted_knn,
 )
 from indoorsim.estimators.fingerprint.hv import derivative
@@ -139,21 +139,13 @@ from indoorsim.estimators.fingerprint.sequences import (
     WifiSequenceMatcher,
 )
 from indoorsim.estimators.frames import wrap_angle
-from indoorsim.estimators.pdr.gait import GaitDeadReckoning
 from indoorsim.estimators.pipelines.chen2022 import (
-    DEFAULT_R_MAGNETIC_M2,
     DEFAULT_R_WIFI_M2,
-    DEFAULT_SIGMA_HEADING_RAD,
-    DEFAULT_SIGMA_STEP_M,
+    Chen2022FrontEnd,
     FixTracker,
     StepFixes,
-    calibrate_length_scale,
-    fit_survey_matchers,
     fix_variance_m2,
-    labelled_walks,
-    noise_std,
     replay_errors,
-    walk_surveys,
 )
 from indoorsim.recording import Recording
 
@@ -171,9 +163,6 @@ __all__ = [
     "mded_many",
 ]
 
-# Floors of the fitted noises, as chen2022.py's: a few lucky walks must not make a source exact.
-_MIN_SIGMA_STEP_M = 0.02
-_MIN_SIGMA_HEADING_RAD = 0.01
 # Internal state of a dataclass: not a constructor argument, not shown, not compared.
 _STATE: dict[str, bool] = {"init": False, "repr": False, "compare": False}
 
@@ -273,11 +262,7 @@ class EdtwMatcher(MagneticSequenceMatcher):
 
     def distances(self, query_hv: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """EDTW distances of the query to every window, and the windows' end positions."""
-        q = np.asarray(query_hv, dtype=float)
-        if q.ndim != 2 or q.shape[1] != 2 or len(q) < 3:
-            raise ValueError(f"the query must be (n, 2) with n ≥ 3, got {q.shape}")
-        if not self.tracks:
-            raise RuntimeError("call fit(tracks) first")
+        q = self._query(query_hv)
         refs, ends = self.windows(len(q))
         magnitude: NDArray[np.float64] | list[NDArray[np.float64]]
         if isinstance(refs, np.ndarray):
@@ -593,11 +578,7 @@ class RegionMagneticMatcher(MagneticSequenceMatcher):
 
     def distances(self, query_hv: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Distances to the windows in the region (HV-DDTW or MD-DTW) and their end positions."""
-        q = np.asarray(query_hv, dtype=float)
-        if q.ndim != 2 or q.shape[1] != 2 or len(q) < 3:
-            raise ValueError(f"the query must be (n, 2) with n ≥ 3, got {q.shape}")
-        if not self.tracks:
-            raise RuntimeError("call fit(tracks) first")
+        q = self._query(query_hv)
         refs, ends = self.windows(len(q))
         if self.region is not None:
             centre, radius = self.region
@@ -606,9 +587,7 @@ class RegionMagneticMatcher(MagneticSequenceMatcher):
                 return np.empty(0), np.empty((0, 2))
             refs = refs[inside] if isinstance(refs, np.ndarray) else [refs[i] for i in inside]
             ends = ends[inside]
-        if self.matcher == "hv-ddtw":
-            return hv_ddtw_many(q, refs, window=self.band), ends
-        return dtw_many(q, refs, window=self.band), ends
+        return self._dtw(q, refs), ends
 
     def match(self, query_hv: ArrayLike) -> tuple[NDArray[np.float64], float]:
         """WKNN of the k nearest windows in the region; (NaN, NaN), inf without one."""
@@ -666,141 +645,9 @@ class CoarseRegionTracker(FixTracker):
 # ------------------------------------------------------------------------- estimators
 
 
-@dataclass(kw_only=True)
-class _CitedPipeline:
-    """What the three approximations share: Chen2022's front end, its fitting, the protocol.
-
-    Subclasses say which matchers they use (:meth:`_matchers`) and run their
-    filter in ``reset``/``act``.
-
-    Attributes:
-        query_steps: steps per magnetic query.
-        spacing_m: metre grid of the magnetic sequences.
-        magnetic_k: neighbours of the magnetic WKNN.
-        wifi_scans: scans per WiFi profile.
-        wifi_k: neighbours of the WiFi WKNN.
-        sigma_xy: std of the position noise per step and axis, m.
-        start_spread_m: std of the start position, m.
-        start_heading_spread_rad: std of the start heading, rad.
-        calibrate: fit the DR length scale, R and the noises on the training walks.
-        gravity_tau_s: time constant of the accelerometer low-pass that
-            stands in for a missing gravity stream, s.
-        survey: the walk survey's database name; None: every walk survey.
-        dr: the dead reckoning (its length scale is fitted).
-        r_magnetic_m2: after ``fit``, R of the magnetic fixes, m².
-        r_wifi_m2: after ``fit``, R of the WiFi fixes, m².
-        sigma_step_m: after ``fit``, the step-length noise, m.
-        sigma_heading_rad: after ``fit``, the heading random walk per step, rad.
-    """
-
-    name: ClassVar[str] = ""
-
-    query_steps: int = 16
-    spacing_m: float = 0.2
-    magnetic_k: int = 4
-    wifi_scans: int = 2
-    wifi_k: int = 3
-    sigma_xy: float = 0.1
-    start_spread_m: float = 0.3
-    start_heading_spread_rad: float = 0.1
-    calibrate: bool = True
-    gravity_tau_s: float = 1.0
-    survey: str | None = None
-    dr: GaitDeadReckoning = field(default_factory=GaitDeadReckoning, compare=False)
-
-    r_magnetic_m2: float = field(default=DEFAULT_R_MAGNETIC_M2, init=False)
-    r_wifi_m2: float = field(default=DEFAULT_R_WIFI_M2, init=False)
-    sigma_step_m: float = field(default=DEFAULT_SIGMA_STEP_M, init=False)
-    sigma_heading_rad: float = field(default=DEFAULT_SIGMA_HEADING_RAD, init=False)
-    _plan: object = field(default=None, **_STATE)
-    _tracker: FixTracker | None = field(default=None, **_STATE)
-    _position: NDArray[np.float64] | None = field(default=None, **_STATE)
-    _length_scale: float = field(default=1.0, **_STATE)
-
-    def __post_init__(self) -> None:
-        # The configured scale, restored by every fit before it calibrates (or not).
-        self._length_scale = float(self.dr.length_scale)
-        if self.query_steps < 1 or self.spacing_m <= 0:
-            raise ValueError("need query_steps ≥ 1 and spacing_m > 0")
-        self._matchers()  # validates the matcher options early
-
-    @property
-    def step_count(self) -> int:
-        """Steps dead reckoning detected this episode."""
-        return int(self.dr.step_count)
-
-    def _matchers(self) -> tuple[MagneticSequenceMatcher | None, WifiSequenceMatcher | None]:
-        """Unfitted magnetic and WiFi matchers of the method (None: not used)."""
-        raise NotImplementedError
-
-    def _new_tracker(
-        self,
-        magnetic: MagneticSequenceMatcher | None,
-        wifi: WifiSequenceMatcher | None,
-        gravity_alpha: float,
-    ) -> FixTracker:
-        return FixTracker(
-            dr=self.dr,
-            magnetic=magnetic,
-            wifi=wifi,
-            query_steps=self.query_steps,
-            spacing_m=self.spacing_m,
-            gravity_alpha=gravity_alpha,
-        )
-
-    def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
-        """Load the walk survey; calibrate DR, fix variances and noises on the training walks.
-
-        Raises:
-            NotApplicableError: without a walk survey, or when it lacks what
-                the method's fixes need.
-        """
-        surveys = walk_surveys(site, self.survey, self.name)
-        magnetic, wifi = self._matchers()
-        magnetic, wifi = fit_survey_matchers(
-            site, surveys, magnetic=magnetic, wifi=wifi, spacing_m=self.spacing_m, who=self.name
-        )
-        self._plan = site.plan
-        alpha = 1.0 - float(np.exp(-1.0 / (site.imu_rate_hz * self.gravity_tau_s)))
-        self._tracker = self._new_tracker(magnetic, wifi, alpha)
-        self.dr.length_scale = self._length_scale
-        self.r_magnetic_m2, self.r_wifi_m2 = DEFAULT_R_MAGNETIC_M2, DEFAULT_R_WIFI_M2
-        self.sigma_step_m, self.sigma_heading_rad = DEFAULT_SIGMA_STEP_M, DEFAULT_SIGMA_HEADING_RAD
-        labelled = labelled_walks(train)
-        if self.calibrate and labelled:
-            calibrate_length_scale(self.dr, labelled)
-            self._calibrate_noise(site, labelled)
-
-    def _calibrate_noise(self, site: SiteContext, train: Sequence[Recording]) -> None:
-        """R per source, G_φ and the step-length noise from replays, as chen2022-cpf."""
-        assert self._tracker is not None
-        e = replay_errors(self._tracker, self.dr, site, train)
-        self._set_noise(e.step_length_m, e.heading_walk_rad)
-        self.r_magnetic_m2 = fix_variance_m2(e.magnetic_m, self.r_magnetic_m2)
-        self.r_wifi_m2 = fix_variance_m2(e.wifi_m, self.r_wifi_m2)
-
-    def _set_noise(self, step_err: NDArray[np.float64], heading_walk: NDArray[np.float64]) -> None:
-        self.sigma_step_m = noise_std(step_err, self.sigma_step_m, _MIN_SIGMA_STEP_M)
-        self.sigma_heading_rad = noise_std(
-            heading_walk, self.sigma_heading_rad, _MIN_SIGMA_HEADING_RAD
-        )
-
-    def _start(self, start: StartInfo) -> FixTracker:
-        if self._tracker is None:
-            raise RuntimeError(f"{self.name}: call fit(site, train) first (it needs a walk survey)")
-        self._tracker.reset(float(start.t0), float(start.heading))
-        self._position = np.array(start.position, dtype=float)
-        return self._tracker
-
-    def _particle_heading(self, pf: ParticleFilter | None) -> float:
-        if pf is None or not len(pf.w):
-            return float(self.dr.heading)
-        return float(np.arctan2(pf.w @ np.sin(pf.heading), pf.w @ np.cos(pf.heading)))
-
-
 @register("edtw-rekf")
 @dataclass(kw_only=True)
-class EdtwRekf(_CitedPipeline):
+class EdtwRekf(Chen2022FrontEnd):
     """Approximation of EDTW + REKF (Chen et al. 2021): EDTW and WiFi fixes in a robust EKF.
 
     Magnetic fixes from :class:`EdtwMatcher`, WiFi fixes from the front end's
@@ -866,7 +713,7 @@ class EdtwRekf(_CitedPipeline):
 
 @register("apf")
 @dataclass(kw_only=True)
-class Apf(_CitedPipeline):
+class Apf(Chen2022FrontEnd):
     """Approximation of APF (Hu et al. 2021): DR and WiFi fixes in an adaptive particle filter.
 
     WiFi fixes from :class:`MdedWifiMatcher`; the filter is
@@ -890,7 +737,6 @@ class Apf(_CitedPipeline):
     particle_filter: AdaptiveParticleFilter | None = field(
         default=None, init=False, repr=False, compare=False
     )
-    _rng: np.random.Generator | None = field(default=None, **_STATE)
 
     def _matchers(self) -> tuple[MagneticSequenceMatcher | None, WifiSequenceMatcher | None]:
         return None, MdedWifiMatcher(scans=self.wifi_scans, k=self.wifi_k)
@@ -902,23 +748,13 @@ class Apf(_CitedPipeline):
 
     def reset(self, start: StartInfo) -> None:
         self._start(start)
-        self.particle_filter = AdaptiveParticleFilter(
+        self.particle_filter = self._start_particles(
+            AdaptiveParticleFilter,
+            start,
             n_particles=self.n_particles,
-            sigma_heading=self.sigma_heading_rad,
-            sigma_step=self.sigma_step_m,
-            sigma_xy=self.sigma_xy,
             ess_threshold=self.ess_threshold,
-            plan=self._plan,  # type: ignore[arg-type]
+            plan=self._plan,
             history_steps=self.history_steps,
-        )
-        # One generator per episode, from the episode's seed: same episode, same estimates.
-        self._rng = np.random.default_rng(np.random.SeedSequence(start.seed))
-        self.particle_filter.initialise(
-            start.position,
-            heading=start.heading,
-            spread=self.start_spread_m,
-            rng=self._rng,
-            heading_spread=self.start_heading_spread_rad,
         )
 
     def act(self, obs: Observation) -> NDArray[np.float64]:
@@ -937,7 +773,7 @@ class Apf(_CitedPipeline):
 
 @register("wimag")
 @dataclass(kw_only=True)
-class WiMag(_CitedPipeline):
+class WiMag(Chen2022FrontEnd):
     """Approximation of WiMag (Guo et al. 2016): WiFi region, magnetic fix in it, mode-switching PF.
 
     The front end is :class:`CoarseRegionTracker` (WiFi fix → region →
@@ -972,7 +808,6 @@ class WiMag(_CitedPipeline):
     particle_filter: ParticleFilter | None = field(
         default=None, init=False, repr=False, compare=False
     )
-    _rng: np.random.Generator | None = field(default=None, **_STATE)
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -999,12 +834,7 @@ class WiMag(_CitedPipeline):
         assert magnetic is None or isinstance(magnetic, RegionMagneticMatcher)
         self.region_radius_m = self._radius(DEFAULT_R_WIFI_M2)
         return CoarseRegionTracker(
-            dr=self.dr,
-            magnetic=magnetic,
-            wifi=wifi,
-            query_steps=self.query_steps,
-            spacing_m=self.spacing_m,
-            gravity_alpha=gravity_alpha,
+            **self._tracker_options(magnetic, wifi, gravity_alpha),
             region_radius_m=self.region_radius_m,
         )
 
@@ -1029,21 +859,12 @@ class WiMag(_CitedPipeline):
 
     def reset(self, start: StartInfo) -> None:
         self._start(start)
-        self.particle_filter = ParticleFilter(
+        self.particle_filter = self._start_particles(
+            ParticleFilter,
+            start,
             n_particles=self.n_particles,
-            sigma_heading=self.sigma_heading_rad,
-            sigma_step=self.sigma_step_m,
-            sigma_xy=self.sigma_xy,
             ess_threshold=self.ess_threshold,
-            plan=self._plan if self.use_plan else None,  # type: ignore[arg-type]
-        )
-        self._rng = np.random.default_rng(np.random.SeedSequence(start.seed))
-        self.particle_filter.initialise(
-            start.position,
-            heading=start.heading,
-            spread=self.start_spread_m,
-            rng=self._rng,
-            heading_spread=self.start_heading_spread_rad,
+            plan=self._plan if self.use_plan else None,
         )
         self.modes = {"magnetic": 0, "wifi": 0, "dr": 0}
 

@@ -273,7 +273,31 @@ def _turn(v: NDArray[np.float64], angle: NDArray[np.float64]) -> NDArray[np.floa
     return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
 
 
-class WindowDataset(Dataset):
+class _WindowSource:
+    """What both data sets share: their split's row groups and the reader that decodes them."""
+
+    reader: _Reader
+    groups: list[_Group]
+
+    def _open(
+        self,
+        root: str | Path,
+        split: str | None,
+        sites: Sequence[str] | None,
+        fractions: tuple[float, float, float],
+        split_seed: int | None,
+        reader: _Reader,
+    ) -> None:
+        self.reader = reader
+        self.groups = _groups(root, split, sites, fractions, split_seed)
+
+    @property
+    def modes(self) -> tuple[str, ...]:
+        """The carrying-mode names; ``sample["mode"]`` indexes this tuple."""
+        return self.reader.modes
+
+
+class WindowDataset(_WindowSource, Dataset):
     """Map-style torch data set of windows (see the module docstring for the sample format).
 
     Args:
@@ -303,15 +327,12 @@ class WindowDataset(Dataset):
         transform: Callable[[dict[str, Any]], dict[str, Any]] | None = None,
         modes: Sequence[str] = DEFAULT_MODES,
     ):
-        self.reader = _Reader(frame, extra, modes, transform)
-        self.groups = _groups(root, split, sites, fractions, split_seed)
+        self._open(
+            root, split, sites, fractions, split_seed, _Reader(frame, extra, modes, transform)
+        )
         self.starts = np.cumsum([0] + [g.rows for g in self.groups])
         self.cache_size = max(1, cache_row_groups)
         self._cache: collections.OrderedDict[int, dict[str, NDArray]] = collections.OrderedDict()
-
-    @property
-    def modes(self) -> tuple[str, ...]:
-        return self.reader.modes
 
     def __len__(self) -> int:
         return int(self.starts[-1])
@@ -331,7 +352,7 @@ class WindowDataset(Dataset):
         return self.reader.sample(self._cache[g], index - int(self.starts[g]))
 
 
-class WindowStream(IterableDataset):
+class WindowStream(_WindowSource, IterableDataset):
     """Iterable torch data set streaming row groups (see the module docstring).
 
     Args:
@@ -356,15 +377,12 @@ class WindowStream(IterableDataset):
         transform: Callable[[dict[str, Any]], dict[str, Any]] | None = None,
         modes: Sequence[str] = DEFAULT_MODES,
     ):
-        self.reader = _Reader(frame, extra, modes, transform)
-        self.groups = _groups(root, split, sites, fractions, split_seed)
+        self._open(
+            root, split, sites, fractions, split_seed, _Reader(frame, extra, modes, transform)
+        )
         self.shuffle = shuffle
         self.seed = seed
         self.epoch = 0
-
-    @property
-    def modes(self) -> tuple[str, ...]:
-        return self.reader.modes
 
     def set_epoch(self, epoch: int) -> None:
         """Change the shuffling order (call before each epoch)."""

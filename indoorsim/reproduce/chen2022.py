@@ -28,7 +28,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from indoorsim.reproduce.tables import cell, rank_line
+from indoorsim.reproduce.tables import paper_cells, rank_line
 
 __all__ = ["APPROXIMATIONS", "PAPER_TABLE_1", "PAPER_TABLE_2", "paper_table", "write_report"]
 
@@ -156,9 +156,7 @@ def _markdown(table: pd.DataFrame, title: str) -> list[str]:
     ]
     for _, r in table.iterrows():
         lines.append(
-            f"| {r['mode']} | {r['method']} | `{r['estimator']}` | "
-            + " | ".join(cell(r[k], r[f"paper_{k}"]) for k in STATS)
-            + " |"
+            f"| {r['mode']} | {r['method']} | `{r['estimator']}` | " + paper_cells(r, STATS) + " |"
         )
     lines.append("")
     for mode in table["mode"].unique():

@@ -44,7 +44,7 @@ from indoorsim.estimators.pipelines.han2023 import (
     grid_survey_table,
 )
 from indoorsim.evaluation import run_episode, site_context, start_info, true_headings_at
-from indoorsim.reproduce.tables import cell, rank_line
+from indoorsim.reproduce.tables import cell, paper_cells, rank_line
 from indoorsim.simulate import simulate
 from indoorsim.world.site import Site
 
@@ -209,13 +209,7 @@ def static_table(
             {
                 "scenario": site.name,
                 "method": LABELS[name],
-                "library_points": len(train),
-                "test_points": len(test),
-                "min": err.min(),
-                "max": err.max(),
-                "mean": err.mean(),
-                "sd": err.std(ddof=1),
-                "within_1m_pct": 100.0 * float((err < 1.0).mean()),
+                **_error_stats(train, test, err),
                 "epochs_to_mse_0.1": int(below[0]) + 1 if len(below) else -1,
                 "min_mse": float(net.training_mse.min()),
                 "paper_min": paper[0],
@@ -229,6 +223,21 @@ def static_table(
         curves[LABELS[name]] = net.training_mse
     rows.append(_lookup_row(train, test, features, site.name))
     return pd.DataFrame(rows), curves
+
+
+def _error_stats(
+    train: pd.DataFrame, test: pd.DataFrame, err: NDArray[np.float64]
+) -> dict[str, object]:
+    """Table 2's library sizes and error columns of one method's held-out errors (m)."""
+    return {
+        "library_points": len(train),
+        "test_points": len(test),
+        "min": err.min(),
+        "max": err.max(),
+        "mean": err.mean(),
+        "sd": err.std(ddof=1),
+        "within_1m_pct": 100.0 * float((err < 1.0).mean()),
+    }
 
 
 def _lookup_row(
@@ -248,13 +257,7 @@ def _lookup_row(
     return {
         "scenario": scenario,
         "method": "1-NN lookup (diagnostic)",
-        "library_points": len(train),
-        "test_points": len(test),
-        "min": err.min(),
-        "max": err.max(),
-        "mean": err.mean(),
-        "sd": err.std(ddof=1),
-        "within_1m_pct": 100.0 * float((err < 1.0).mean()),
+        **_error_stats(train, test, err),
         "epochs_to_mse_0.1": -1,
         "min_mse": nan,
         **dict.fromkeys(("paper_min", "paper_max", "paper_mean", "paper_sd", "paper_min_mse"), nan),
@@ -344,7 +347,7 @@ def write_report(
     for _, r in t1.iterrows():
         lines.append(
             f"| {r['method']} | {'yes' if r['wt'] else 'no'} | {r['steps']} | "
-            + " | ".join(cell(r[k], r[f"paper_{k}"]) for k in TABLE_1_STATS)
+            + paper_cells(r, TABLE_1_STATS)
             + " |"
         )
     for wt in (True, False):
@@ -392,7 +395,7 @@ def write_report(
         epochs = r["epochs_to_mse_0.1"]
         lines.append(
             f"| {r['scenario']} | {r['method']} | "
-            + " | ".join(cell(r[k], r[f"paper_{k}"]) for k in ("min", "max", "mean", "sd"))
+            + paper_cells(r, ("min", "max", "mean", "sd"))
             + f" | {r['within_1m_pct']:.1f} | {'never' if epochs < 0 else epochs} "
             f"({r['paper_epochs_to_mse_0.1']}) | {cell(r['min_mse'], r['paper_min_mse'], 4)} |"
         )
@@ -426,7 +429,7 @@ def write_report(
         for _, r in t.iterrows():
             lines.append(
                 f"| {r['method']} | `{r['estimator']}` | "
-                + " | ".join(cell(r[k], r[f"paper_{k}"]) for k in ("min", "max", "mean", "sd"))
+                + paper_cells(r, ("min", "max", "mean", "sd"))
                 + " |"
             )
         lines += ["", rank_line(list(t["method"]), list(t["mean"]), list(t["paper_mean"])), ""]

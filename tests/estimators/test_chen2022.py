@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import pandas as pd
 import pytest
@@ -18,7 +16,6 @@ from indoorsim.estimators.fingerprint import (
     reference_tracks,
     resample_by_distance,
 )
-from indoorsim.estimators.pdr.gait import GaitStep
 from indoorsim.estimators.pipelines.chen2022 import (
     DEFAULT_R_MAGNETIC_M2,
     DEFAULT_R_WIFI_M2,
@@ -28,7 +25,6 @@ from indoorsim.estimators.pipelines.chen2022 import (
 from indoorsim.evaluation import (
     check_estimator,
     run_episode,
-    site_context,
     start_info,
     training_walks,
     true_positions_at,
@@ -37,24 +33,9 @@ from indoorsim.fingerprints import FingerprintDB
 from indoorsim.recording import Recording
 from indoorsim.simulate import simulate
 from indoorsim.windows import PRESENT_ORDER
+from tests.estimators.conftest import SPACING, MetronomeDR, synthetic_track, wifi_map
 
 NAMES = ["chen2022-cpf", "pf", "dr-wifi", "dr-mm"]
-SPACING = 0.2
-
-
-@pytest.fixture(scope="module")
-def lab() -> indoorsim.Site:
-    return indoorsim.load_site("chen2022_lab")
-
-
-@pytest.fixture(scope="module")
-def lab_context(lab: indoorsim.Site) -> SiteContext:
-    return site_context(lab, device="ideal")
-
-
-@pytest.fixture(scope="module")
-def lab_train(lab: indoorsim.Site) -> list[Recording]:
-    return training_walks(lab, "survey_loop", mode="handheld", device="ideal", n=2)
 
 
 # --- protocol -------------------------------------------------------------------------------
@@ -100,17 +81,6 @@ def test_a_site_without_a_walk_survey_is_not_applicable(name: str) -> None:
 
 
 # --- matching: closed forms -----------------------------------------------------------------
-
-
-def synthetic_track(length_m: float = 30.0) -> pd.DataFrame:
-    """A walk-survey magnetic table on the grid: an L-shaped path, a non-repeating HV field."""
-    s = SPACING * np.arange(round(length_m / SPACING) + 1)
-    corner = 14.0  # on the grid, so that label distances stay exact multiples of the spacing
-    x = np.where(s <= corner, s, corner)
-    y = np.where(s <= corner, 0.0, s - corner)
-    b_h = 30.0 + 3.0 * np.sin(1.3 * s) + 2.0 * np.sin(0.37 * s + 1.0)
-    b_v = -35.0 + 2.0 * np.cos(0.9 * s) + 1.5 * np.sin(0.021 * s**2)
-    return pd.DataFrame({"pass": 0, "t": s / 1.2, "x": x, "y": y, "b_h": b_h, "b_v": b_v})
 
 
 def test_resampling_by_distance_averages_the_samples_of_each_cell() -> None:
@@ -165,16 +135,6 @@ def test_hv_ddtw_ignores_a_constant_offset_and_md_dtw_does_not() -> None:
     assert distance > 1.0
 
 
-def wifi_map() -> tuple[np.ndarray, np.ndarray]:
-    """Reference points every 5 m along a corridor; noise-free log-distance RSS of four APs."""
-    points = np.column_stack([np.arange(0.0, 50.1, 5.0), np.full(11, 1.5)])
-    aps = np.array([[3.0, 0.0], [18.0, 3.0], [33.0, 0.0], [48.0, 3.0]])
-    d = np.linalg.norm(points[:, None, :] - aps[None, :, :], axis=2)
-    rss = -40.0 - 25.0 * np.log10(np.maximum(d, 1.0))
-    rss[rss < -70.0] = np.nan  # beyond the phone's detection threshold: unheard
-    return points, rss
-
-
 @pytest.mark.parametrize("scans", [1, 2, 3])
 def test_wifi_wknn_returns_the_exact_point_on_a_noise_free_map(scans: int) -> None:
     points, rss = wifi_map()
@@ -189,28 +149,6 @@ def test_wifi_wknn_returns_the_exact_point_on_a_noise_free_map(scans: int) -> No
 
 
 # --- the front end --------------------------------------------------------------------------
-
-
-@dataclass
-class MetronomeDR:
-    """Stand-in dead reckoning: a step of ``length`` every ``period`` s along +x."""
-
-    length: float = 0.6
-    period: float = 0.5
-    step_count: int = 0
-    heading: float = 0.0
-    _next: float = 0.0
-
-    def reset(self, heading: float) -> None:
-        self.heading, self.step_count, self._next = heading, 0, self.period
-
-    def update(self, t, accel, gyro, gravity=None) -> list[GaitStep]:
-        steps = []
-        while self._next <= t[-1]:
-            steps.append(GaitStep(self._next, self.length, self.heading, 0.0, 0.05))
-            self._next += self.period
-            self.step_count += 1
-        return steps
 
 
 def observation(t: np.ndarray, mag: np.ndarray, gravity: np.ndarray) -> dict[str, np.ndarray]:

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import pandas as pd
 import pytest
@@ -36,11 +34,12 @@ from indoorsim.evaluation import (
     true_positions_at,
 )
 from indoorsim.fingerprints import FingerprintDB
+from indoorsim.recording import Recording
 from indoorsim.simulate import simulate
 from indoorsim.windows import PRESENT_ORDER
+from tests.estimators.conftest import SPACING, MetronomeDR, synthetic_track, wifi_map
 
 NAMES = ["edtw-rekf", "apf", "wimag"]
-SPACING = 0.2
 
 
 # --- protocol -------------------------------------------------------------------------------
@@ -70,17 +69,6 @@ def test_apf_without_wifi_references_is_not_applicable() -> None:
 
 
 # --- EDTW: closed forms ---------------------------------------------------------------------
-
-
-def synthetic_track(length_m: float = 30.0) -> pd.DataFrame:
-    """A walk-survey magnetic table on the grid: an L-shaped path, a non-repeating HV field."""
-    s = SPACING * np.arange(round(length_m / SPACING) + 1)
-    corner = 14.0
-    x = np.where(s <= corner, s, corner)
-    y = np.where(s <= corner, 0.0, s - corner)
-    b_h = 30.0 + 3.0 * np.sin(1.3 * s) + 2.0 * np.sin(0.37 * s + 1.0)
-    b_v = -35.0 + 2.0 * np.cos(0.9 * s) + 1.5 * np.sin(0.021 * s**2)
-    return pd.DataFrame({"pass": 0, "t": s / 1.2, "x": x, "y": y, "b_h": b_h, "b_v": b_v})
 
 
 def test_edtw_ignores_an_offset_and_scales_with_a_gain_as_designed() -> None:
@@ -195,16 +183,6 @@ def test_rekf_down_weights_an_outlier_by_its_innovation_covariance() -> None:
 # --- APF: closed forms ----------------------------------------------------------------------
 
 
-def wifi_map() -> tuple[np.ndarray, np.ndarray]:
-    """Reference points every 5 m along a corridor; noise-free log-distance RSS of four APs."""
-    points = np.column_stack([np.arange(0.0, 50.1, 5.0), np.full(11, 1.5)])
-    aps = np.array([[3.0, 0.0], [18.0, 3.0], [33.0, 0.0], [48.0, 3.0]])
-    d = np.linalg.norm(points[:, None, :] - aps[None, :, :], axis=2)
-    rss = -40.0 - 25.0 * np.log10(np.maximum(d, 1.0))
-    rss[rss < -70.0] = np.nan  # unheard
-    return points, rss
-
-
 def test_mded_is_the_euclidean_distance_of_the_whole_profile() -> None:
     points, rss = wifi_map()
     floored = np.where(np.isnan(rss), -110.0, rss)
@@ -264,28 +242,6 @@ def test_region_matcher_only_returns_positions_in_its_region() -> None:
     m.region = (np.array([100.0, 100.0]), 1.0)
     position, distance = m.match(query)
     assert np.isnan(position).all() and distance == np.inf
-
-
-@dataclass
-class MetronomeDR:
-    """Stand-in dead reckoning: a step of ``length`` every ``period`` s along +x."""
-
-    length: float = 0.6
-    period: float = 0.5
-    step_count: int = 0
-    heading: float = 0.0
-    _next: float = 0.0
-
-    def reset(self, heading: float) -> None:
-        self.heading, self.step_count, self._next = heading, 0, self.period
-
-    def update(self, t, accel, gyro, gravity=None) -> list[GaitStep]:
-        steps = []
-        while self._next <= t[-1] + 1e-9:
-            steps.append(GaitStep(self._next, self.length, self.heading, 0.0, 0.05))
-            self._next += self.period
-            self.step_count += 1
-        return steps
 
 
 def wifi_window(t: np.ndarray, rss: np.ndarray | None) -> dict[str, np.ndarray]:
@@ -373,16 +329,15 @@ def test_every_carrying_mode_runs_on_the_office(mode: str, office: indoorsim.Sit
             assert est.ekf is not None and np.all(np.linalg.eigvalsh(est.ekf.P) > 0)
 
 
-def test_each_follows_an_ideal_handheld_walk() -> None:
-    lab = indoorsim.load_site("chen2022_lab")
-    ctx = site_context(lab, device="ideal")
-    train = training_walks(lab, "survey_loop", mode="handheld", device="ideal", n=2)
+def test_each_follows_an_ideal_handheld_walk(
+    lab: indoorsim.Site, lab_context: SiteContext, lab_train: list[Recording]
+) -> None:
     rec = simulate(lab, route="survey_loop", mode="handheld", device="ideal", seed=1)
     errors = {}
     for name in [*NAMES, "start-only"]:
         est = make(name)
-        est.fit(ctx, train)
-        result = run_episode(est, rec, ctx, start_info(rec, seed=1))
+        est.fit(lab_context, lab_train)
+        result = run_episode(est, rec, lab_context, start_info(rec, seed=1))
         errors[name] = np.linalg.norm(result.estimate - true_positions_at(rec, result.t), axis=1)
     for name in NAMES:
         assert errors[name].mean() < 0.5 * errors["start-only"].mean(), name
