@@ -152,21 +152,30 @@ class Windower:
                 aligned[f"{name}_fresh"] = fresh
         self.aligned = aligned
         self._scan_t, self._scan_rss, self._scan_heard = self._scans(streams.get("wifi"))
-        # Every window is cut here, once, so that window(k) only copies: an
-        # environment step or an estimator's loop costs a few microseconds.
         self._n_windows = -(-n // samples)
-        slot = np.arange(self._n_windows * samples)
-        at = np.minimum(slot, n - 1)  # the last window's padding repeats its last sample
-        shape = (self._n_windows, samples)
-        self._blocks: dict[str, NDArray] = {
-            "t": self.t[at].reshape(shape),
-            "valid": (slot < n).astype(np.int8).reshape(shape),
-        }
-        for name, values in aligned.items():
-            self._blocks[name] = values[at].reshape(shape + values.shape[1:])
-        first = np.arange(self._n_windows) * samples
-        last = np.minimum(first + samples, n) - 1
-        self._blocks.update(self.wifi_windows(first, last))
+        self._cut: dict[str, NDArray] | None = None
+
+    @property
+    def _blocks(self) -> dict[str, NDArray]:
+        """Every window, cut once on first use, so that window(k) only copies: an
+        environment step or an estimator's loop costs a few microseconds. (The
+        data-set writer cuts its own windows from ``aligned`` and never needs these.)"""
+        if self._cut is None:
+            n, samples = len(self.t), self.samples
+            slot = np.arange(self._n_windows * samples)
+            at = np.minimum(slot, n - 1)  # the last window's padding repeats its last sample
+            shape = (self._n_windows, samples)
+            blocks: dict[str, NDArray] = {
+                "t": self.t[at].reshape(shape),
+                "valid": (slot < n).astype(np.int8).reshape(shape),
+            }
+            for name, values in self.aligned.items():
+                blocks[name] = values[at].reshape(shape + values.shape[1:])
+            first = np.arange(self._n_windows) * samples
+            last = np.minimum(first + samples, n) - 1
+            blocks.update(self.wifi_windows(first, last))
+            self._cut = blocks
+        return self._cut
 
     def wifi_windows(self, first: NDArray[np.intp], last: NDArray[np.intp]) -> dict[str, NDArray]:
         """The WiFi entries of windows spanning IMU samples ``first[k]..last[k]``.

@@ -132,3 +132,32 @@ def test_same_seed_same_bytes_other_seed_different(corridor, tmp_path):
 def test_unknown_route_is_a_clear_error(corridor):
     with pytest.raises(KeyError, match="no route 'nope'; routes are"):
         simulate(corridor, route="nope")
+
+
+def test_noisy_magnetometers_read_the_path_field_noiseless_ones_the_exact_sum(
+    corridor, monkeypatch
+):
+    import dataclasses
+
+    import indoorsim.simulate as sim
+    from indoorsim.phone.kinematics import IdealImu
+    from indoorsim.walker.carry import carry
+    from indoorsim.walker.gait import WalkerParams, walk
+
+    route = sim.resolve_route(corridor, "heading_test")
+    rngs = run_streams(4)
+    body = walk(corridor.plan, route, WalkerParams(), rngs["walker"])
+    phone = carry(body, "dangling", rngs["carry"])
+    imu = IdealImu(phone.t, phone.pos, phone.quat)
+    # The sensor's own errors off, to see the field it was given.
+    monkeypatch.setattr(sim, "apply_magnetometer", lambda ideal, t, spec, rng: ideal)
+    ideal = get_device("ideal")
+    noisy = dataclasses.replace(
+        ideal, mag=dataclasses.replace(ideal.mag, noise_sigma_uT=0.4, rate_hz=100.0)
+    )
+    for device, bound in ((ideal, 1e-9), (noisy, sim.PATH_FIELD_ERROR_UT)):
+        s = sample_sensors(corridor, phone, device, run_streams(4))
+        exact = imu.to_phone_frame(s.t_mag, corridor.magnetic_field(imu.position(s.t_mag)))
+        err = np.linalg.norm(s.mag - exact, axis=1).max()
+        assert err < bound
+    assert err > 1e-9  # the noisy device got the path field, not the exact sum

@@ -47,6 +47,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 import shapely
@@ -280,7 +281,12 @@ def window_table(
     heading = at(np.unwrap(truth["heading"].to_numpy()))
     heading = np.pi - np.mod(np.pi - heading, 2.0 * np.pi)  # wrapped to (−π, π]
     held = np.clip(np.searchsorted(tt, t, side="right") - 1, 0, len(tt) - 1)
-    mode_names, mode_code = np.unique(truth["mode"].to_numpy(dtype=str), return_inverse=True)
+    # Hash-based factorisation of the per-sample modes (np.unique would sort
+    # 10⁵ strings), then the codes renumbered in sorted-name order.
+    codes, names = pd.factorize(truth["mode"])
+    names = np.asarray(names, dtype=str)
+    rank = np.argsort(np.argsort(names))
+    mode_names, mode_code = np.sort(names), rank[codes]
     mode_at = mode_code[held]
 
     steps = rec.steps

@@ -174,7 +174,7 @@ def fuse(
 # Quaternions are (w, x, y, z), world←body. R(q) maps body vectors to world.
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _rotmat(q, r):  # pragma: no cover - compiled
     w, x, y, z = q[0], q[1], q[2], q[3]
     r[0, 0] = 1 - 2 * (y * y + z * z)
@@ -188,7 +188,7 @@ def _rotmat(q, r):  # pragma: no cover - compiled
     r[2, 2] = 1 - 2 * (x * x + y * y)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _quat_mul_into(a, b, out):  # pragma: no cover - compiled
     w = a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3]
     x = a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2]
@@ -197,7 +197,7 @@ def _quat_mul_into(a, b, out):  # pragma: no cover - compiled
     out[0], out[1], out[2], out[3] = w, x, y, z
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _normalise(q):  # pragma: no cover - compiled
     n = np.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
     s = 1.0 / n if q[0] >= 0 else -1.0 / n  # keep w ≥ 0: a continuous output
@@ -205,7 +205,7 @@ def _normalise(q):  # pragma: no cover - compiled
         q[i] *= s
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _skew(v, m):  # pragma: no cover - compiled
     m[0, 0], m[0, 1], m[0, 2] = 0.0, -v[2], v[1]
     m[1, 0], m[1, 1], m[1, 2] = v[2], 0.0, -v[0]
@@ -257,7 +257,7 @@ def _triad(acc, mag, q):  # pragma: no cover - compiled
     _normalise(q)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _mm(a, b, out):  # pragma: no cover - compiled
     """out = a @ b for small matrices, without allocating."""
     n, m, k = a.shape[0], b.shape[1], a.shape[1]
@@ -269,7 +269,7 @@ def _mm(a, b, out):  # pragma: no cover - compiled
             out[i, j] = acc
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _mmt(a, b, out):  # pragma: no cover - compiled
     """out = a @ b.T for small matrices, without allocating."""
     n, m, k = a.shape[0], b.shape[0], a.shape[1]
@@ -281,7 +281,7 @@ def _mmt(a, b, out):  # pragma: no cover - compiled
             out[i, j] = acc
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _predict(q, b, P, w_meas, dt, gyro_var, bias_var, ws):  # pragma: no cover - compiled
     """Propagate q and P over dt with the bias-corrected body rate.
 
@@ -295,25 +295,44 @@ def _predict(q, b, P, w_meas, dt, gyro_var, bias_var, ws):  # pragma: no cover -
     if nw < 1e-9:
         nw = 1e-9
     th = nw * dt
-    s = np.sin(0.5 * th) / nw
-    dq[0], dq[1], dq[2], dq[3] = np.cos(0.5 * th), we[0] * s, we[1] * s, we[2] * s
+    sh, ch = np.sin(0.5 * th), np.cos(0.5 * th)
+    s = sh / nw
+    dq[0], dq[1], dq[2], dq[3] = ch, we[0] * s, we[1] * s, we[2] * s
     _quat_mul_into(q, dq, qn)  # q ← q ⊗ δq(ω dt)
     q[:] = qn
     _normalise(q)
     _skew(we, wx)
     _mm(wx, wx, wx2)
-    k_sin, k_cos = np.sin(th), np.cos(th)
+    k_sin, k_cos = 2.0 * sh * ch, 1.0 - 2.0 * sh * sh  # sin θ, cos θ from the half angle
     c1, c2 = k_sin / nw, (1 - k_cos) / (nw * nw)
     c3 = (th - k_sin) / (nw * nw * nw)
-    phi[:] = 0.0  # 6 × 6, lower-right identity
+    # Φ00 in phi[:3, :3], Φ01 in phi[:3, 3:]; the lower blocks are 0 and I.
     for i in range(3):
         for j in range(3):
             eye = 1.0 if i == j else 0.0
             phi[i, j] = eye - wx[i, j] * c1 + wx2[i, j] * c2
             phi[i, 3 + j] = wx[i, j] * c2 - eye * dt - wx2[i, j] * c3
-        phi[3 + i, 3 + i] = 1.0
-    _mm(phi, P, tmp)
-    _mmt(tmp, phi, P)  # P ← Φ P Φᵀ + G Q Gᵀ
+    # P ← Φ P Φᵀ by blocks, skipping the zero and identity blocks of Φ:
+    # A = Φ00 P00 + Φ01 P10, B = Φ00 P01 + Φ01 P11 (= the new P01),
+    # P00 ← A Φ00ᵀ + B Φ01ᵀ; P11 is unchanged.
+    for i in range(3):
+        for j in range(3):
+            a_ij = 0.0
+            b_ij = 0.0
+            for r in range(3):
+                a_ij += phi[i, r] * P[r, j] + phi[i, 3 + r] * P[3 + r, j]
+                b_ij += phi[i, r] * P[r, 3 + j] + phi[i, 3 + r] * P[3 + r, 3 + j]
+            tmp[i, j] = a_ij
+            tmp[i, 3 + j] = b_ij
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for r in range(3):
+                acc += tmp[i, r] * phi[j, r] + tmp[i, 3 + r] * phi[j, 3 + r]
+            P[i, j] = acc
+        for j in range(3):
+            P[i, 3 + j] = tmp[i, 3 + j]
+            P[3 + j, i] = tmp[i, 3 + j]
     q00 = gyro_var * dt + bias_var * dt**3 / 3.0
     q01 = -0.5 * bias_var * dt * dt
     q11 = bias_var * dt
@@ -324,7 +343,7 @@ def _predict(q, b, P, w_meas, dt, gyro_var, bias_var, ws):  # pragma: no cover -
         P[3 + i, 3 + i] += q11
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _update(q, b, P, z, ref_world, sigma, estimate_bias, ws):  # pragma: no cover - compiled
     """EKF update with a unit reference direction ``ref_world`` measured as ``z`` (body frame).
 
@@ -383,18 +402,13 @@ def _update(q, b, P, z, ref_world, sigma, estimate_bias, ws):  # pragma: no cove
             K[i, j] = acc
     for i in range(3):
         e[i] = z[i] - h[i]
-    # P ← (I − K H) P = P − K (H P), then symmetrised against round-off.
+    # P ← (I − K H) P = P − K (H P) = P − (HP)ᵀ S⁻¹ (HP), symmetric: the upper
+    # triangle is computed and mirrored, which also keeps P symmetric exactly.
     for i in range(6):
-        for j in range(6):
-            acc = 0.0
-            for r in range(3):
-                acc += K[i, r] * HP[r, j]
+        for j in range(i, 6):
+            acc = K[i, 0] * HP[0, j] + K[i, 1] * HP[1, j] + K[i, 2] * HP[2, j]
             P[i, j] -= acc
-    for i in range(6):
-        for j in range(i + 1, 6):
-            m = 0.5 * (P[i, j] + P[j, i])
-            P[i, j] = m
-            P[j, i] = m
+            P[j, i] = P[i, j]
     dq[0] = 1.0
     for i in range(3):
         dq[1 + i] = 0.5 * (K[i, 0] * e[0] + K[i, 1] * e[1] + K[i, 2] * e[2])
@@ -477,7 +491,7 @@ def _run(
             bias[gi] = b[0]
             gi += 1
         elif k == _ACC:
-            na = np.sqrt(np.sum(v * v))
+            na = np.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
             if na > 0.1 * _NOMINAL_GRAVITY:  # no gravity direction in free fall
                 sigma = acc_std * np.exp(np.sqrt(abs(na - _NOMINAL_GRAVITY))) / na
                 for j in range(3):
@@ -495,16 +509,21 @@ def _run(
                 grav[ai, j] = rmat[2, j] * g_out
             ai += 1
         else:  # magnetometer
-            b2 = np.sum(v * v)
+            b2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
             if min_b2 <= b2 <= max_b2:  # reject disturbed or degenerate fields
                 _rotmat(q[0], rmat)
                 for j in range(3):
                     up_b[j] = rmat[2, j]  # world up seen in the body frame
-                east = np.cross(v, up_b)
-                if np.sum(east * east) >= 1e-6:
-                    north = np.cross(up_b, east)
-                    nn = np.sqrt(np.sum(north * north))
+                # east = v × up, north = up × east (no temporaries in the event loop)
+                ex = v[1] * up_b[2] - v[2] * up_b[1]
+                ey = v[2] * up_b[0] - v[0] * up_b[2]
+                ez = v[0] * up_b[1] - v[1] * up_b[0]
+                if ex * ex + ey * ey + ez * ez >= 1e-6:
+                    zp[0] = up_b[1] * ez - up_b[2] * ey
+                    zp[1] = up_b[2] * ex - up_b[0] * ez
+                    zp[2] = up_b[0] * ey - up_b[1] * ex
+                    nn = np.sqrt(zp[0] * zp[0] + zp[1] * zp[1] + zp[2] * zp[2])
                     for j in range(3):
-                        zp[j] = north[j] / nn
+                        zp[j] /= nn
                     _update(q[0], b[0], P[0], zp, north_w, mag_std / nn, True, ws)
     return rot, game, bias, grav

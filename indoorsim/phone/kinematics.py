@@ -18,12 +18,11 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
 from scipy.spatial.transform import Rotation
-
-from indoorsim import quaternion as quat_ops
 
 
 def normal_gravity(latitude_deg: float) -> float:
@@ -54,9 +53,11 @@ class IdealImu:
         q = np.asarray(quat, dtype=float)
         # Sign-continuous samples, so interpolation takes the short way round.
         flips = np.r_[False, np.einsum("ij,ij->i", q[1:], q[:-1]) < 0]
-        self._quat = q * np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)[:, None]
-        dt = np.diff(self.t)
-        self._rate_mid = quat_ops.relative_rotvec(self._quat[:-1], self._quat[1:]) / dt[:, None]
+        self._quat = np.ascontiguousarray(
+            q * np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)[:, None]
+        )
+        self._rate_mid = np.empty((len(self.t) - 1, 3))
+        _rates(self.t, self._quat, self._rate_mid)
         self._t_mid = 0.5 * (self.t[:-1] + self.t[1:])
 
     def _clip(self, times: ArrayLike) -> NDArray[np.float64]:
@@ -74,7 +75,10 @@ class IdealImu:
 
     def quaternion(self, times: ArrayLike) -> NDArray[np.float64]:
         """(N, 4) world←phone unit quaternions (w, x, y, z) at ``times``."""
-        return quat_ops.slerp(self.t, self._quat, self._clip(times))
+        ts = np.ascontiguousarray(self._clip(times))
+        out = np.empty((len(ts), 4))
+        _slerp(self.t, self._quat, ts, out)
+        return out
 
     def attitude(self, times: ArrayLike) -> Rotation:
         """World←phone rotations at ``times``."""
@@ -85,7 +89,7 @@ class IdealImu:
         ts = self._clip(times)
         acc_w = self._acc(ts)
         acc_w[:, 2] += self.gravity_mps2
-        return quat_ops.rotate(quat_ops.conjugate(self.quaternion(ts)), acc_w)
+        return self.to_phone_frame(ts, acc_w)
 
     def angular_rate(self, times: ArrayLike) -> NDArray[np.float64]:
         """(N, 3) ideal gyroscope reading in the phone frame, rad/s."""
@@ -94,8 +98,81 @@ class IdealImu:
 
     def to_phone_frame(self, times: ArrayLike, vectors_world: ArrayLike) -> NDArray[np.float64]:
         """Express world-frame vectors (N, 3), one per time, in the phone frame."""
-        return quat_ops.rotate(quat_ops.conjugate(self.quaternion(times)), vectors_world)
+        return _rotate(self.quaternion(times), vectors_world, inverse=True)
 
     def to_world_frame(self, times: ArrayLike, vectors_phone: ArrayLike) -> NDArray[np.float64]:
         """Express phone-frame vectors (N, 3), one per time, in the world frame."""
-        return quat_ops.rotate(self.quaternion(times), vectors_phone)
+        return _rotate(self.quaternion(times), vectors_phone, inverse=False)
+
+
+def _rotate(q: NDArray[np.float64], v: ArrayLike, inverse: bool) -> NDArray[np.float64]:
+    """Vectors v (N, 3) or (3,) rotated by q (N, 4), or by its inverse."""
+    vec = np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=float), (len(q), 3)))
+    out = np.empty((len(q), 3))
+    _rotate_kernel(np.ascontiguousarray(q), vec, -1.0 if inverse else 1.0, out)
+    return out
+
+
+# ----------------------------------------------------------------- compiled kernels
+# One pass each over a long trajectory, where the numpy forms make a dozen
+# temporaries; the formulas are those of indoorsim.quaternion.
+
+
+@numba.njit(cache=True)
+def _rotate_kernel(q, v, sign, out):  # pragma: no cover - compiled
+    """out = q ⊗ (0, v) ⊗ q* with the vector part of q times ``sign`` (−1: the inverse)."""
+    for k in range(q.shape[0]):
+        w, x, y, z = q[k, 0], sign * q[k, 1], sign * q[k, 2], sign * q[k, 3]
+        vx, vy, vz = v[k, 0], v[k, 1], v[k, 2]
+        tx = 2.0 * (y * vz - z * vy)
+        ty = 2.0 * (z * vx - x * vz)
+        tz = 2.0 * (x * vy - y * vx)
+        out[k, 0] = vx + w * tx + (y * tz - z * ty)
+        out[k, 1] = vy + w * ty + (z * tx - x * tz)
+        out[k, 2] = vz + w * tz + (x * ty - y * tx)
+
+
+@numba.njit(cache=True)
+def _rates(t, q, out):  # pragma: no cover - compiled
+    """Body rates between consecutive samples: log(q_k* ⊗ q_{k+1}) / Δt (the short way round)."""
+    for k in range(q.shape[0] - 1):
+        w1, x1, y1, z1 = q[k, 0], -q[k, 1], -q[k, 2], -q[k, 3]
+        w2, x2, y2, z2 = q[k + 1, 0], q[k + 1, 1], q[k + 1, 2], q[k + 1, 3]
+        w = w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2
+        x = w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2
+        y = w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2
+        z = w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2
+        if w < 0.0:
+            w, x, y, z = -w, -x, -y, -z
+        s = math.sqrt(x * x + y * y + z * z)
+        # angle / s → 2 as s → 0 (small-angle limit), avoiding 0/0.
+        scale = 2.0 * math.atan2(s, w) / s if s > 1e-12 else 2.0
+        dt = t[k + 1] - t[k]
+        out[k, 0] = x * scale / dt
+        out[k, 1] = y * scale / dt
+        out[k, 2] = z * scale / dt
+
+
+@numba.njit(cache=True)
+def _slerp(tk, qk, t, out):  # pragma: no cover - compiled
+    """Spherical-linear interpolation of sign-continuous samples qk at times t (clipped inside)."""
+    n = tk.shape[0]
+    for m in range(t.shape[0]):
+        i = np.searchsorted(tk, t[m], side="right") - 1
+        i = min(max(i, 0), n - 2)
+        f = (t[m] - tk[i]) / (tk[i + 1] - tk[i])
+        a0, a1, a2, a3 = qk[i, 0], qk[i, 1], qk[i, 2], qk[i, 3]
+        b0, b1, b2, b3 = qk[i + 1, 0], qk[i + 1, 1], qk[i + 1, 2], qk[i + 1, 3]
+        c = a0 * b0 + a1 * b1 + a2 * b2 + a3 * b3
+        if c < 0.0:
+            b0, b1, b2, b3, c = -b0, -b1, -b2, -b3, -c
+        c = min(c, 1.0)
+        theta = math.acos(c)
+        sin = math.sin(theta)
+        if sin < 1e-9:
+            wa, wb = 1.0 - f, f
+        else:
+            wa, wb = math.sin((1.0 - f) * theta) / sin, math.sin(f * theta) / sin
+        r0, r1, r2, r3 = wa * a0 + wb * b0, wa * a1 + wb * b1, wa * a2 + wb * b2, wa * a3 + wb * b3
+        norm = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2 + r3 * r3)
+        out[m, 0], out[m, 1], out[m, 2], out[m, 3] = r0 / norm, r1 / norm, r2 / norm, r3 / norm

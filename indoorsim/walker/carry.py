@@ -44,13 +44,14 @@ from dataclasses import dataclass
 from importlib.metadata import entry_points
 from typing import Any, ClassVar, Literal
 
+import numba
 import numpy as np
 import pymunk
 from numpy.typing import NDArray
 from pymunk._chipmunk_cffi import lib as _CP
 from scipy.interpolate import CubicSpline
 from scipy.ndimage import gaussian_filter1d
-from scipy.signal import butter, sosfilt, sosfilt_zi
+from scipy.signal import butter, oaconvolve, sosfilt, sosfilt_zi
 from scipy.spatial.transform import Rotation
 
 from indoorsim import quaternion as quat_ops
@@ -335,32 +336,72 @@ def _sign_continuous(q: NDArray[np.float64]) -> NDArray[np.float64]:
 # ---------------------------------------------------------------------- shared pieces
 
 
-def _compose(*rotations: Rotation) -> Rotation:
-    """The product r₁·r₂·…, each a single rotation or a stack of one common length.
+# Rotations inside the modes are unit quaternion arrays, (4,) or (K, 4), scalar
+# first (scipy's Rotation is built once per pose): at 200 Hz over a long walk
+# scipy's conversions on every factor would cost more than the motion itself.
+Quat = NDArray[np.float64]
 
-    Equal to chaining scipy's ``*``, done as one vectorised Hamilton product
-    per factor (:mod:`indoorsim.quaternion`).
+
+@numba.njit(cache=True)
+def _hamilton(a, b, out):  # pragma: no cover - compiled
+    """out[k] = a[k] ⊗ b[k], where a or b may hold a single quaternion for all k."""
+    sa, sb = a.shape[0] > 1, b.shape[0] > 1
+    for k in range(out.shape[0]):
+        i, j = k if sa else 0, k if sb else 0
+        w1, x1, y1, z1 = a[i, 0], a[i, 1], a[i, 2], a[i, 3]
+        w2, x2, y2, z2 = b[j, 0], b[j, 1], b[j, 2], b[j, 3]
+        out[k, 0] = w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2
+        out[k, 1] = w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2
+        out[k, 2] = w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2
+        out[k, 3] = w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2
+
+
+def _compose(*rotations: Quat) -> Quat:
+    """The product q₁ ⊗ q₂ ⊗ …, each a single quaternion or a stack of one common length.
+
+    The same rotation as chaining scipy's ``*`` (to rounding).
     """
-    q = rotations[0].as_quat(scalar_first=True)
+    q = np.atleast_2d(np.asarray(rotations[0], dtype=float))
     for r in rotations[1:]:
-        q = quat_ops.multiply(q, r.as_quat(scalar_first=True))
+        r = np.atleast_2d(np.asarray(r, dtype=float))
+        out = np.empty((max(len(q), len(r)), 4))
+        _hamilton(np.ascontiguousarray(q), np.ascontiguousarray(r), out)
+        q = out
+    return q
+
+
+def _rotation(q: Quat) -> Rotation:
+    """The scipy rotation(s) of quaternion(s) q."""
     return Rotation.from_quat(q, scalar_first=True)
 
 
-def _about(axis: str, angle: float | NDArray[np.float64]) -> Rotation:
+def _about(axis: str, angle: float | NDArray[np.float64]) -> Quat:
     """Rotation(s) by ``angle`` rad about the x, y or z axis (one per angle)."""
-    unit = np.eye(3)["xyz".index(axis)]
-    return Rotation.from_rotvec(np.multiply.outer(angle, unit))
+    half = 0.5 * np.asarray(angle, dtype=float)
+    q = np.zeros((*half.shape, 4))
+    q[..., 0] = np.cos(half)
+    q[..., 1 + "xyz".index(axis)] = np.sin(half)
+    return q
 
 
-def _body_frame(yaw: NDArray[np.float64]) -> Rotation:
+def _from_rotvec(v: NDArray[np.float64]) -> Quat:
+    """Rotation(s) by rotation vector(s) v."""
+    return Rotation.from_rotvec(v).as_quat(scalar_first=True)
+
+
+def _body_frame(yaw: NDArray[np.float64]) -> Quat:
     """World←body rotations (body x forward, y left, z up) for yaw angles."""
     return _about("z", yaw)
 
 
-def _from_axes(x: Sequence[float], y: Sequence[float], z: Sequence[float]) -> Rotation:
+def _apply(q: Quat, v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Vectors v (3,) or (K, 3) rotated by q."""
+    return quat_ops.rotate(q, v)
+
+
+def _from_axes(x: Sequence[float], y: Sequence[float], z: Sequence[float]) -> Quat:
     """The rotation whose columns are the phone's x, y, z axes in the body frame."""
-    return Rotation.from_matrix(np.column_stack([x, y, z]))
+    return Rotation.from_matrix(np.column_stack([x, y, z])).as_quat(scalar_first=True)
 
 
 def _lowpass(x: NDArray[np.float64], cutoff_hz: float, rate_hz: float) -> NDArray[np.float64]:
@@ -393,9 +434,26 @@ def _tremor(n: int, rate_hz: float, rms: float, rng: np.random.Generator) -> NDA
 
 def _slow_noise(n: int, rate_hz: float, rng: np.random.Generator) -> NDArray[np.float64]:
     """Unit-RMS noise varying over about a second."""
-    x = gaussian_filter1d(rng.standard_normal(n), 0.5 * rate_hz)
+    x = _gaussian_smooth(rng.standard_normal(n), 0.5 * rate_hz)
     sd = x.std()
     return x / sd if sd > 0 else x
+
+
+def _gaussian_smooth(x: NDArray[np.float64], sigma: float) -> NDArray[np.float64]:
+    """``scipy.ndimage.gaussian_filter1d(x, sigma)`` (same kernel, mirrored ends), by FFT.
+
+    With σ of a hundred samples the direct filter costs ~800 products per
+    sample; overlap-add convolution gives the same result to rounding.
+    """
+    radius = int(4.0 * sigma + 0.5)
+    u = np.arange(-radius, radius + 1)
+    kernel = np.exp(-0.5 * (u / sigma) ** 2)
+    kernel /= kernel.sum()
+    # ndimage's "reflect" mirrors about the edge, repeating the end sample.
+    padded = np.pad(x, radius, mode="symmetric") if len(x) > radius else None
+    if padded is None:
+        return gaussian_filter1d(x, sigma)
+    return oaconvolve(padded, kernel, mode="valid")
 
 
 def _side(which: str) -> float:
@@ -440,7 +498,7 @@ class Handheld(CarryMode):
         offset = np.array([0.13 * h, 0.02 * _side(self.hand), (_CHEST_H - PELVIS_HEIGHT_RATIO) * h])
         yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
         frame = _body_frame(yaw)
-        pos = body.pos + frame.apply(offset)
+        pos = body.pos + _apply(frame, offset)
         rest = body.pelvis_height_m
         pos[:, 2] = (
             rest
@@ -459,9 +517,9 @@ class Handheld(CarryMode):
             _about("z", -np.pi / 2),
             _about("x", math.radians(self.pitch_deg) + k * acc[:, 2]),
             _about("y", -k * horiz[:, 1]),
-            Rotation.from_rotvec(tremor),
+            _from_rotvec(tremor),
         )
-        return ModePose(pos=pos, rot=rot, light_exposure=np.ones(len(body.t)))
+        return ModePose(pos=pos, rot=_rotation(rot), light_exposure=np.ones(len(body.t)))
 
 
 @register_mode
@@ -489,7 +547,7 @@ class Calling(CarryMode):
         yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
         # The phone's centre: beside the head, a little ahead of and below the ear.
         offset = np.array([0.05, 0.09 * side, (_EAR_H - 0.02 - PELVIS_HEIGHT_RATIO) * h])
-        pos = body.pos + _body_frame(yaw).apply(offset)
+        pos = body.pos + _apply(_body_frame(yaw), offset)
         rest = body.pelvis_height_m
         pos[:, 2] = rest + offset[2] + _lowpass(body.pos[:, 2] - rest, self.head_cutoff_hz, rate)
         tilt = math.radians(self.tilt_deg if self.tilt_deg is not None else rng.uniform(30.0, 60.0))
@@ -503,7 +561,7 @@ class Calling(CarryMode):
         )
         base = rng.uniform(*self.light_exposure_range)
         light = base * np.exp(0.2 * _slow_noise(len(body.t), rate, rng))
-        return ModePose(pos=pos, rot=rot, light_exposure=light)
+        return ModePose(pos=pos, rot=_rotation(rot), light_exposure=light)
 
 
 @register_mode
@@ -543,19 +601,19 @@ class Dangling(CarryMode):
         h, side = body.height_m, _side(self.hand)
         length = _ARM_LENGTH * h
         frame = _body_frame(body.yaw)
-        shoulder = body.pos + frame.apply(
-            [0.0, _SHOULDER_HALF_WIDTH * h * side, (_SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
+        shoulder = body.pos + _apply(
+            frame, [0.0, _SHOULDER_HALF_WIDTH * h * side, (_SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
         )
         swing = math.radians(self.swing_deg if self.swing_deg is not None else rng.uniform(15, 25))
         theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)
         arm = length * np.column_stack([np.sin(theta), np.zeros_like(theta), -np.cos(theta)])
-        pos = shoulder + frame.apply(arm)
+        pos = shoulder + _apply(frame, arm)
         # At the bottom of the swing: x down (right hand) or up (left), y
         # forward, z outward.
         base = _from_axes([0.0, 0.0, side], [1.0, 0.0, 0.0], [0.0, side, 0.0])
-        grip = Rotation.from_rotvec(np.radians(rng.normal(0.0, self.grip_deg, 3)))
+        grip = _from_rotvec(np.radians(rng.normal(0.0, self.grip_deg, 3)))
         rot = _compose(frame, _about("y", -theta), base, grip)
-        return ModePose(pos=pos, rot=rot, light_exposure=np.ones(len(body.t)))
+        return ModePose(pos=pos, rot=_rotation(rot), light_exposure=np.ones(len(body.t)))
 
     def _simulate(
         self,
@@ -668,7 +726,7 @@ class Pocketed(CarryMode):
             body.t, steps.t.to_numpy(), rng.uniform(*self.impact_mps2, len(steps))
         )
         local -= jolt[:, None] * thigh  # the jolt drives the phone up along the thigh
-        pos = body.pos + pelvis.apply(local)
+        pos = body.pos + _apply(pelvis, local)
 
         top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)
         screen_out = self.screen_out if self.screen_out is not None else bool(rng.random() < 0.5)
@@ -684,4 +742,4 @@ class Pocketed(CarryMode):
         )
         rot = _compose(pelvis, _about("x", roll), _about("y", -alpha), base, placement)
         light = np.full(len(body.t), rng.uniform(*self.light_exposure_range))
-        return ModePose(pos=pos, rot=rot, light_exposure=light)
+        return ModePose(pos=pos, rot=_rotation(rot), light_exposure=light)

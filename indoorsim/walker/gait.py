@@ -123,6 +123,12 @@ _STOP_GAP_M = 3.0
 # may give the body: ample for any planned track, and a gentle shove when a
 # wall is in the way [E].
 _TRACK_MAX_CORRECTION, _MAX_STEER_ACCEL = 0.5, 5.0
+# The disc's physics is skipped on stretches of at least _STEER_MIN_SKIP steps
+# where the plan stays this much farther than the disc's radius plus a step
+# from every wall (m), once the disc is within _STEER_ON_TRACK_M of its plan.
+_STEER_CLEAR_M, _STEER_MIN_SKIP, _STEER_ON_TRACK_M = 0.05, 8, 1e-9
+# A walk cut short still steers its body this long past the cut (s).
+_SPLINE_TAIL_S = 4.0
 
 
 def step_length_m(speed_mps: ArrayLike, height_m: float = 1.70) -> NDArray[np.float64]:
@@ -351,6 +357,7 @@ def walk(
     params: WalkerParams,
     rng: np.random.Generator,
     rate_hz: float = 200.0,
+    until_s: float | None = None,
 ) -> BodyTrajectory:
     """Simulate a pedestrian walking ``route`` in ``plan``.
 
@@ -361,6 +368,11 @@ def walk(
         params: how the pedestrian walks.
         rng: the only source of randomness.
         rate_hz: output sample rate, at least 200 Hz (the IMU truth rate).
+        until_s: compute the trajectory only up to this time (a long route
+            walked for a fixed time). The walk is planned in full and draws
+            the same random numbers, so the samples up to ``until_s`` are
+            those of the whole walk (to rounding); the trajectory and its heel
+            strikes end a few samples after it. None computes the whole walk.
 
     Returns:
         The body trajectory and the true heel strikes.
@@ -403,9 +415,15 @@ def walk(
 
     # Macro track: the pymunk body steered through the planned knots, then C².
     dt_phys = 1.0 / params.physics_rate_hz
-    t_phys = np.arange(math.ceil(duration / dt_phys) + 1) * dt_phys
+    # A few samples past a cut keep the derived speed central at the cut itself.
+    end = duration if until_s is None else min(duration, max(until_s, 0.0) + 0.05)
+    # The physics runs a little past the end, so that the spline through its
+    # track has the same values up to the end as the whole walk's would (a
+    # cubic spline's end condition fades by ~4× per knot).
+    phys_end = min(duration, end + _SPLINE_TAIL_S)
+    t_phys = np.arange(math.ceil(phys_end / dt_phys) + 1) * dt_phys
     track = _steer(plan, path.position(timeline.distance(t_phys)), dt_phys, params.body_radius_m)
-    t = np.arange(math.floor(duration * rate_hz + 1e-9) + 1) / rate_hz
+    t = np.arange(math.floor(end * rate_hz + 1e-9) + 1) / rate_hz
     macro = CubicSpline(t_phys, track, axis=0)(t)
 
     # Intra-step motion on top, in the walking direction's frame.
@@ -449,6 +467,8 @@ def walk(
         ]
     )
     vel = np.gradient(pos[:, :2], t, axis=0)
+    if end < duration:
+        steps = steps[steps["t"] <= t[-1]].reset_index(drop=True)
     return BodyTrajectory(
         t=t,
         pos=pos,
@@ -537,17 +557,24 @@ def _turn_length(
     return length
 
 
-def _boundary_segments(plan: FloorPlan) -> NDArray[np.float64]:
-    """(M, 2, 2) end points of the edges of the walkable area's boundary."""
-    rings = [
-        np.asarray(ring.coords)
-        for poly in _polygons(plan.walkable)
-        for ring in [poly.exterior, *poly.interiors]
-    ]
-    if not rings:
-        return np.zeros((0, 2, 2))
-    ab = np.concatenate([np.stack([xy[:-1], xy[1:]], axis=1) for xy in rings])
-    return ab[np.linalg.norm(ab[:, 1] - ab[:, 0], axis=1) > 1e-12]
+def _smooth_pushes(
+    where: NDArray[np.intp], push: NDArray[np.float64], n: int, sigma: float
+) -> NDArray[np.float64]:
+    """(n, 2) pushes placed at rows ``where`` (sorted) and smoothed along the path
+    (Gaussian of ``sigma`` samples, nearest-value ends).
+
+    Only the stretches around pushed rows are filtered: elsewhere the result is
+    zero, and within them it equals filtering the whole array.
+    """
+    out = np.zeros((n, 2))
+    radius = int(4.0 * sigma + 0.5)  # gaussian_filter1d's default truncation
+    breaks = np.flatnonzero(np.diff(where) > 2 * radius + 1)
+    for first, last in zip(np.r_[0, breaks + 1], np.r_[breaks, len(where) - 1], strict=True):
+        lo, hi = max(0, where[first] - 2 * radius), min(n, where[last] + 2 * radius + 1)
+        part = np.zeros((hi - lo, 2))
+        part[where[first : last + 1] - lo] = push[first : last + 1]
+        out[lo:hi] += gaussian_filter1d(part, sigma, axis=0, mode="nearest")
+    return out
 
 
 def _drop_short_legs(pts: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -634,18 +661,14 @@ class _Path:
         the angle the push adds to the path's direction. Returns the path
         unchanged when nothing is too close.
         """
-        ab = _boundary_segments(plan)
-        if distance <= 0 or len(ab) == 0:
+        if distance <= 0 or len(plan.walkable_edges) == 0:
             return self
-        tree = shapely.STRtree(shapely.linestrings(ab))
-        # Which metres of the path come near anything? One cheap query on 1 m
-        # pieces (sampled every 0.2 m, a hair of margin for the chords).
+        # Which metres of the path come near anything? One cheap query on points
+        # every 0.2 m (with half that as margin for the chords between them).
         metres = math.ceil(self.length)
         coarse = self.position(np.minimum(np.linspace(0.0, metres, 5 * metres + 1), self.length))
-        pieces = shapely.linestrings(
-            np.stack([coarse[i : i + 5 * metres : 5] for i in range(6)], axis=1)
-        )
-        hit = np.unique(tree.query(pieces, predicate="dwithin", distance=distance + 0.01)[0])
+        close = ~np.isnan(plan.nearest_boundary(coarse, distance + 0.11)[:, 0])
+        hit = np.unique(np.minimum(np.flatnonzero(close) // 5, metres - 1)).astype(float)
         if len(hit) == 0:
             return self
         n = max(2, math.ceil(self.length / _KEEP_DS_M) + 1)
@@ -662,22 +685,18 @@ class _Path:
         np.add.at(cover, np.searchsorted(s, hit - reach), 1)
         np.add.at(cover, np.searchsorted(s, hit + 1.0 + reach), -1)
         watch = np.flatnonzero(np.cumsum(cover)[:-1] > 0)
+        sigma = _KEEP_SMOOTH_M / _KEEP_DS_M
         for _ in range(_KEEP_ROUNDS):
             pts = base[watch] + offset[watch]
-            near, seg = tree.query(shapely.points(pts), predicate="dwithin", distance=distance)
+            # Each point is pushed from its nearest boundary point only.
+            nearest = plan.nearest_boundary(pts, distance)
+            near = np.flatnonzero(~np.isnan(nearest[:, 0]))
             if len(near) == 0:
                 break
-            a, b = ab[seg, 0], ab[seg, 1]
-            u = np.einsum("ij,ij->i", pts[near] - a, b - a) / np.einsum("ij,ij->i", b - a, b - a)
-            away = pts[near] - (a + np.clip(u, 0.0, 1.0)[:, None] * (b - a))
+            away = pts[near] - nearest[near]
             gap = np.linalg.norm(away, axis=1)
-            # Each point is pushed from its nearest boundary point only.
-            order = np.lexsort((gap, near))
-            first = order[np.unique(near[order], return_index=True)[1]]
-            push = np.zeros_like(base)
-            scale = (distance - gap[first]) / np.maximum(gap[first], 1e-12)
-            push[watch[near[first]]] = away[first] * scale[:, None]
-            offset += gaussian_filter1d(push, _KEEP_SMOOTH_M / _KEEP_DS_M, axis=0, mode="nearest")
+            scale = (distance - gap) / np.maximum(gap, 1e-12)
+            offset += _smooth_pushes(watch[near], away * scale[:, None], len(base), sigma)
         if not offset.any():
             return self
         moved = base + offset
@@ -1015,7 +1034,11 @@ class _Timeline:
         out = np.zeros(len(t))
         for b, d in zip(self.bouts, self.dwells, strict=False):
             if d.dtheta:
-                out += d.dtheta * smootherstep((t - b.t_end) / d.duration)
+                # 0 before the turn, dtheta after it: only the turn itself needs the step.
+                i0 = int(np.searchsorted(t, b.t_end, "right"))
+                i1 = int(np.searchsorted(t, b.t_end + d.duration, "left"))
+                out[i0:i1] += d.dtheta * smootherstep((t[i0:i1] - b.t_end) / d.duration)
+                out[i1:] += d.dtheta
         return out
 
     def steps(self) -> pd.DataFrame:
@@ -1048,7 +1071,7 @@ def _steer(
     """
     space = pymunk.Space()
     space.collision_slop = 1e-3  # pymunk's default (0.1) is in metres here: far too loose
-    for a, b in _boundary_segments(plan).tolist():
+    for a, b in plan.walkable_edges.tolist():
         seg = pymunk.Segment(space.static_body, a, b, 0.0)
         seg.friction = 0.0
         space.add(seg)
@@ -1064,27 +1087,51 @@ def _steer(
 
     vel = np.zeros_like(ref)
     vel[:-1] = np.diff(ref, axis=0) / dt
-    lead = (ref - vel * dt).tolist()
-    vel_l = vel.tolist()
+    lead = ref - vel * dt
     body.position = tuple(ref[0])
     body.velocity = tuple(vel[0])
-    out = [tuple(ref[0])]
+    out = np.empty_like(ref)
+    out[0] = ref[0]
     if len(ref) > 1:
-        control.position = lead[1]
-        control.velocity = vel_l[1]
+        control.position = tuple(lead[1])
+        control.velocity = tuple(vel[1])
         space.step(dt)  # the first step through pymunk: it checks the bodies once
-        out.append(tuple(body.position))
+        out[1] = tuple(body.position)
     # Then Chipmunk directly: pymunk's property and step wrappers cost more than
     # the physics over thousands of steps, and this space has no callbacks,
     # additions or removals for them to handle (the results are identical).
+    # Flat lists of floats, not lists of pairs: thousands of small containers
+    # would keep the garbage collector busy.
     c_space, c_control, c_body = space._space, control._body, body._body
-    for k in range(2, len(ref)):
-        _CP.cpBodySetPosition(c_control, lead[k])
-        _CP.cpBodySetVelocity(c_control, vel_l[k])
+    lx, ly = lead[:, 0].tolist(), lead[:, 1].tolist()
+    vx, vy = vel[:, 0].tolist(), vel[:, 1].tolist()
+    rx, ry = ref[:, 0].tolist(), ref[:, 1].tolist()
+    # Where the plan keeps the disc clear of every wall (with room for a step's
+    # travel), a disc that is on its track stays on it: no contact can arise,
+    # so those stretches are copied rather than stepped.
+    step = float(np.max(np.linalg.norm(vel, axis=1))) * dt if len(ref) > 1 else 0.0
+    clear = np.isnan(plan.nearest_boundary(ref, radius + step + _STEER_CLEAR_M)[:, 0])
+    # The first sample at or after each one that is not clear.
+    blocked = np.where(clear, len(ref), np.arange(len(ref)))
+    run_end = np.minimum.accumulate(blocked[::-1])[::-1].tolist()
+    k, n = 2, len(ref)
+    while k < n:
+        end = run_end[k]
+        if end - k >= _STEER_MIN_SKIP:
+            p = _CP.cpBodyGetPosition(c_body)
+            if abs(p.x - rx[k - 1]) + abs(p.y - ry[k - 1]) < _STEER_ON_TRACK_M:
+                out[k:end] = ref[k:end]
+                _CP.cpBodySetPosition(c_body, (rx[end - 1], ry[end - 1]))
+                _CP.cpBodySetVelocity(c_body, (vx[end - 1], vy[end - 1]))
+                k = end
+                continue
+        _CP.cpBodySetPosition(c_control, (lx[k], ly[k]))
+        _CP.cpBodySetVelocity(c_control, (vx[k], vy[k]))
         _CP.cpSpaceStep(c_space, dt)
         p = _CP.cpBodyGetPosition(c_body)
-        out.append((p.x, p.y))
-    return np.asarray(out)
+        out[k, 0], out[k, 1] = p.x, p.y
+        k += 1
+    return out
 
 
 def _polygons(geom: shapely.Geometry) -> list[shapely.Polygon]:

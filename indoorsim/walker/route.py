@@ -28,6 +28,7 @@ import weakref
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+import numba
 import numpy as np
 import shapely
 from numpy.typing import NDArray
@@ -239,13 +240,59 @@ def _visible(
 ) -> NDArray[np.bool_]:
     """(N,) True where segment a→b stays in ``sight``.
 
-    A segment whose midpoint is outside cannot be covered; that cheap point
-    test settles most pairs before the exact one.
+    Two cheap tests settle most pairs before the exact one: a segment whose
+    midpoint is outside, or that properly crosses an edge of the boundary,
+    leaves the region.
     """
     mid = 0.5 * (a + b)
     out = shapely.contains_xy(sight, mid[:, 0], mid[:, 1])
+    edges = _ring_edges(sight)
+    if len(edges):
+        crossed = np.empty(int(out.sum()))
+        _crosses_any(
+            np.ascontiguousarray(a[out]),
+            np.ascontiguousarray(b[out]),
+            np.ascontiguousarray(edges[:, 0]),
+            np.ascontiguousarray(edges[:, 1]),
+            crossed,
+        )
+        out[out] = crossed == 0.0
     out[out] = _segments_covered(sight, a[out], b[out])
     return out
+
+
+def _ring_edges(region: shapely.Geometry) -> NDArray[np.float64]:
+    """(E, 2, 2) edges of every ring of ``region``."""
+    rings = [
+        np.asarray(ring.coords)
+        for poly in _polygons(region)
+        for ring in [poly.exterior, *poly.interiors]
+    ]
+    if not rings:
+        return np.zeros((0, 2, 2))
+    return np.concatenate([np.stack([xy[:-1], xy[1:]], axis=1) for xy in rings])
+
+
+@numba.njit(cache=True)
+def _crosses_any(p0, p1, ea, eb, out):  # pragma: no cover - compiled
+    """out[i] = 1.0 where segment p0[i]→p1[i] properly crosses one of the edges ea→eb."""
+    for i in range(p0.shape[0]):
+        x0, y0, x1, y1 = p0[i, 0], p0[i, 1], p1[i, 0], p1[i, 1]
+        lo_x, hi_x = min(x0, x1), max(x0, x1)
+        lo_y, hi_y = min(y0, y1), max(y0, y1)
+        ex, ey = x1 - x0, y1 - y0
+        out[i] = 0.0
+        for j in range(ea.shape[0]):
+            ax, ay, bx, by = ea[j, 0], ea[j, 1], eb[j, 0], eb[j, 1]
+            if max(ax, bx) < lo_x or min(ax, bx) > hi_x or max(ay, by) < lo_y or min(ay, by) > hi_y:
+                continue
+            dx, dy = bx - ax, by - ay
+            if (dx * (y0 - ay) - dy * (x0 - ax)) * (dx * (y1 - ay) - dy * (x1 - ax)) >= 0:
+                continue
+            if (ex * (ay - y0) - ey * (ax - x0)) * (ex * (by - y0) - ey * (bx - x0)) >= 0:
+                continue
+            out[i] = 1.0
+            break
 
 
 def _shortest_path(

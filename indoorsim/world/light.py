@@ -31,6 +31,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numba
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
@@ -137,26 +138,266 @@ def direct_illuminance(
         plan: occluding geometry; ``None`` for free space.
     """
     out = np.zeros(len(points))
-    for pos, axis, i0, n in zip(
-        sources.position, sources.axis, sources.intensity_cd, sources.exponent, strict=True
-    ):
-        if i0 == 0:
-            continue
-        v = pos - points  # receiver → source
-        d2 = np.maximum(np.einsum("ij,ij->i", v, v), MIN_DISTANCE_M**2)
-        d = np.sqrt(d2)
-        cos_theta = -(v @ axis) / d
-        cos_psi = np.einsum("ij,ij->i", normals, v) / d
-        # Only receivers in front of the source and facing it get light; the
-        # occlusion query, the costly part, runs on those alone.
-        lit = np.flatnonzero((cos_theta > 0) & (cos_psi > 0))
-        if lit.size == 0:
-            continue
-        e = i0 * cos_theta[lit] ** n * cos_psi[lit] / d2[lit]
-        if plan is not None:
-            e *= plan.light_transmittance(points[lit, :2], pos[None, :2])
-        out[lit] += e
+    if plan is not None:
+        sa, sb, elem, transmittance = plan.light_occluders
+    else:
+        sa, sb, elem, transmittance = (
+            np.zeros((0, 2)),
+            np.zeros((0, 2)),
+            np.zeros(0, np.intp),
+            np.zeros(0),
+        )
+    sa, sb = np.ascontiguousarray(sa, dtype=float), np.ascontiguousarray(sb, dtype=float)
+    position = np.ascontiguousarray(sources.position, dtype=float)
+    start, items = _occluders_by_direction(position, sa, sb)
+    _direct(
+        np.ascontiguousarray(points, dtype=float),
+        np.ascontiguousarray(normals, dtype=float),
+        position,
+        np.ascontiguousarray(sources.axis, dtype=float),
+        np.ascontiguousarray(sources.intensity_cd, dtype=float),
+        np.ascontiguousarray(sources.exponent, dtype=float),
+        sa,
+        sb,
+        np.ascontiguousarray(elem, dtype=np.intp),
+        np.ascontiguousarray(transmittance, dtype=float),
+        start,
+        items,
+        out,
+    )
     return out
+
+
+# Directions around a source are binned this finely for the occlusion test.
+_DIRECTION_BINS = 128
+
+
+def _occluders_by_direction(
+    position: NDArray[np.float64], sa: NDArray[np.float64], sb: NDArray[np.float64]
+) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """Per source and direction bin, the occluding segments that span that direction.
+
+    A segment can cross the sight line from a source to a receiver only if
+    it spans the receiver's direction as seen from the source (in the plan),
+    so the occlusion test needs only the segments of that direction's bin:
+    ``items[start[r]:start[r + 1]]`` with r = s·``_DIRECTION_BINS`` + k, in
+    increasing order (an element's segments stay contiguous). Memoised on the
+    arrays' contents (a site's sources and walls are fixed).
+    """
+    key = (position[:, :2].tobytes(), sa.tobytes(), sb.tobytes())
+    hit = _DIRECTION_CACHE.get(key)
+    if hit is None:
+        counts = np.zeros((len(position), _DIRECTION_BINS), np.intp)
+        _bin_directions(position, sa, sb, counts, np.zeros(0, np.intp), np.zeros(0, np.intp))
+        start = np.zeros(counts.size + 1, np.intp)
+        np.cumsum(counts.ravel(), out=start[1:])
+        items = np.empty(start[-1], np.intp)
+        _bin_directions(position, sa, sb, counts, start, items)
+        hit = (start, items)
+        if len(_DIRECTION_CACHE) >= 8:
+            _DIRECTION_CACHE.pop(next(iter(_DIRECTION_CACHE)))
+        _DIRECTION_CACHE[key] = hit
+    return hit
+
+
+_DIRECTION_CACHE: dict[tuple[bytes, bytes, bytes], tuple[NDArray[np.intp], NDArray[np.intp]]] = {}
+
+
+@numba.njit(cache=True, inline="always")
+def _pseudo_angle(dx, dy):  # pragma: no cover - compiled
+    """A stand-in for the direction angle of (dx, dy), in [0, 4), increasing
+    counter-clockwise from +x like the angle (but cheaper than atan2)."""
+    if dx == 0.0 and dy == 0.0:
+        return 0.0
+    if dy >= 0.0:
+        return dy / (dx + dy) if dx >= 0.0 else 1.0 - dx / (dy - dx)
+    return 2.0 - dy / (-dx - dy) if dx < 0.0 else 3.0 + dx / (dx - dy)
+
+
+@numba.njit(cache=True, inline="always")
+def _direction_bin(dx, dy):  # pragma: no cover - compiled
+    """The direction bin of (dx, dy): ``_DIRECTION_BINS`` equal pseudo-angle intervals."""
+    k = int(_pseudo_angle(dx, dy) * (_DIRECTION_BINS / 4.0))
+    return min(max(k, 0), _DIRECTION_BINS - 1)
+
+
+@numba.njit(cache=True)
+def _bin_directions(position, sa, sb, counts, start, items):  # pragma: no cover - compiled
+    """Count (``items`` empty) or list each segment in the direction bins it spans, per source.
+
+    The arc a segment spans from a source is the one shorter than π between
+    its ends' directions; a segment through the source spans every bin. One
+    bin of margin on each side absorbs rounding.
+    """
+    fill = items.shape[0] > 0
+    nb = _DIRECTION_BINS
+    for s in range(position.shape[0]):
+        sx, sy = position[s, 0], position[s, 1]
+        for j in range(sa.shape[0]):
+            ax, ay, bx, by = sa[j, 0] - sx, sa[j, 1] - sy, sb[j, 0] - sx, sb[j, 1] - sy
+            cross = ax * by - ay * bx
+            if cross == 0.0 and ax * bx + ay * by <= 0.0:
+                k0, n = 0, nb  # the source lies on the segment
+            else:
+                if cross < 0.0:
+                    ax, ay, bx, by = bx, by, ax, ay  # counter-clockwise from a to b, less than π
+                ka = _direction_bin(ax, ay) - 1
+                kb = _direction_bin(bx, by) + 1
+                if kb < ka:
+                    kb += nb
+                k0, n = ka, min(kb - ka + 1, nb)
+            for k in range(k0, k0 + n):
+                b = k % nb
+                if fill:
+                    row = s * nb + b
+                    items[start[row] + counts[s, b] - 1] = j
+                    counts[s, b] -= 1
+                else:
+                    counts[s, b] += 1
+
+
+# Receivers are taken this many at a time: a source whose light an opaque
+# element blocks from the whole group is skipped for all of them at once.
+_CHUNK = 32
+
+
+@numba.njit(cache=True)
+def _direct(
+    p, n, pos, axis, i0, expo, sa, sb, elem, transmittance, start, items, out
+):  # pragma: no cover - compiled
+    """The sum of :func:`direct_illuminance`, each receiver's sources in order.
+
+    Receivers come in chunks of consecutive points (a path's samples lie close
+    together). A source is skipped for a whole chunk when a single opaque
+    element shadows the chunk's bounding disc (:func:`_shadows_disc`), which
+    is exact: every receiver in the disc is occluded. Otherwise the occlusion
+    test (the costly part) runs per receiver in front of the source and
+    facing it, against the segments that span its direction.
+    """
+    d2_min = MIN_DISTANCE_M * MIN_DISTANCE_M
+    nb = _DIRECTION_BINS
+    m = p.shape[0]
+    for c0 in range(0, m, _CHUNK):
+        c1 = min(c0 + _CHUNK, m)
+        lo_x, hi_x, lo_y, hi_y = p[c0, 0], p[c0, 0], p[c0, 1], p[c0, 1]
+        for i in range(c0, c1):
+            lo_x, hi_x = min(lo_x, p[i, 0]), max(hi_x, p[i, 0])
+            lo_y, hi_y = min(lo_y, p[i, 1]), max(hi_y, p[i, 1])
+        cx, cy = 0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y)
+        rho = 0.5 * math.sqrt((hi_x - lo_x) ** 2 + (hi_y - lo_y) ** 2) + 1e-9
+        for s in range(pos.shape[0]):
+            if i0[s] == 0:
+                continue
+            sx, sy, sz = pos[s, 0], pos[s, 1], pos[s, 2]
+            if sa.shape[0]:
+                row = s * nb + _direction_bin(cx - sx, cy - sy)
+                if _shadows_disc(
+                    sx,
+                    sy,
+                    cx,
+                    cy,
+                    rho,
+                    sa,
+                    sb,
+                    elem,
+                    transmittance,
+                    items[start[row] : start[row + 1]],
+                ):
+                    continue
+            ax, ay, az = axis[s, 0], axis[s, 1], axis[s, 2]
+            for i in range(c0, c1):
+                vx, vy, vz = sx - p[i, 0], sy - p[i, 1], sz - p[i, 2]  # receiver → source
+                d2 = max(vx * vx + vy * vy + vz * vz, d2_min)
+                d = math.sqrt(d2)
+                cos_theta = -(vx * ax + vy * ay + vz * az) / d
+                cos_psi = (n[i, 0] * vx + n[i, 1] * vy + n[i, 2] * vz) / d
+                if cos_theta <= 0.0 or cos_psi <= 0.0:
+                    continue
+                e = i0[s] * (cos_theta if expo[s] == 1.0 else cos_theta ** expo[s]) * cos_psi / d2
+                if sa.shape[0]:
+                    row = s * nb + _direction_bin(-vx, -vy)
+                    e *= _transmittance(
+                        p[i, 0],
+                        p[i, 1],
+                        sx,
+                        sy,
+                        sa,
+                        sb,
+                        elem,
+                        transmittance,
+                        items[start[row] : start[row + 1]],
+                    )
+                out[i] += e
+
+
+@numba.njit(cache=True, inline="always")
+def _shadows_disc(sx, sy, cx, cy, rho, sa, sb, elem, value, idx):  # pragma: no cover - compiled
+    """True when one opaque segment among ``idx`` blocks the sight line from the
+    source (sx, sy) to every point of the disc (cx, cy, rho).
+
+    A segment a→b properly crosses the sight line to p when p lies strictly
+    inside the wedge of rays s→a, s→b and strictly beyond the line through a
+    and b; for a whole disc, that holds when its centre is at least rho inside
+    each of those three half-planes.
+    """
+    for j in idx:
+        if value[elem[j]] != 0.0:
+            continue
+        ax, ay, bx, by = sa[j, 0] - sx, sa[j, 1] - sy, sb[j, 0] - sx, sb[j, 1] - sy
+        qx, qy = cx - sx, cy - sy
+        turn = ax * by - ay * bx
+        if turn == 0.0:
+            continue
+        if turn < 0.0:
+            ax, ay, bx, by = bx, by, ax, ay  # counter-clockwise from a to b
+        la = math.sqrt(ax * ax + ay * ay)
+        lb = math.sqrt(bx * bx + by * by)
+        if ax * qy - ay * qx < rho * la:  # left of s→a by at least rho
+            continue
+        if qx * by - qy * bx < rho * lb:  # right of s→b by at least rho
+            continue
+        # Beyond the line a→b, on the side away from the source (s at the origin).
+        ex, ey = bx - ax, by - ay
+        le = math.sqrt(ex * ex + ey * ey)
+        side_s = ex * (0.0 - ay) - ey * (0.0 - ax)
+        side_q = ex * (qy - ay) - ey * (qx - ax)
+        if side_s > 0.0:
+            side_s, side_q = -side_s, -side_q
+        if side_q >= rho * le and side_s < 0.0:
+            return True
+    return False
+
+
+@numba.njit(cache=True, inline="always")
+def _transmittance(x0, y0, x1, y1, sa, sb, elem, value, idx):  # pragma: no cover - compiled
+    """Π value[element] over the distinct elements among segments ``idx`` that
+    (x0, y0)→(x1, y1) properly crosses (:func:`~indoorsim.world.plan.fold_segment`)."""
+    lo_x, hi_x = min(x0, x1), max(x0, x1)
+    lo_y, hi_y = min(y0, y1), max(y0, y1)
+    ex, ey = x1 - x0, y1 - y0
+    acc = 1.0
+    counted = -1
+    for j in idx:
+        ax, ay, bx, by = sa[j, 0], sa[j, 1], sb[j, 0], sb[j, 1]
+        if max(ax, bx) < lo_x or min(ax, bx) > hi_x or max(ay, by) < lo_y or min(ay, by) > hi_y:
+            continue
+        dx, dy = bx - ax, by - ay
+        o1 = dx * (y0 - ay) - dy * (x0 - ax)
+        o2 = dx * (y1 - ay) - dy * (x1 - ax)
+        if o1 * o2 >= 0:
+            continue
+        o3 = ex * (ay - y0) - ey * (ax - x0)
+        o4 = ex * (by - y0) - ey * (bx - x0)
+        if o3 * o4 >= 0:
+            continue
+        e = elem[j]
+        if e == counted:
+            continue
+        counted = e
+        acc *= value[e]
+        if acc == 0.0:
+            return 0.0
+    return acc
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -237,7 +478,15 @@ class RoomAmbient:
         for room, e_up, e_down in zip(self.rooms, self.upper_lux, self.lower_lux, strict=True):
             if e_up == 0 and e_down == 0:
                 continue
-            inside = shapely.contains_xy(room, points[:, 0], points[:, 1])
+            # Only the points in the room's bounding box need the exact test.
+            x0, y0, x1, y1 = room.bounds
+            box = np.flatnonzero(
+                (points[:, 0] >= x0)
+                & (points[:, 0] <= x1)
+                & (points[:, 1] >= y0)
+                & (points[:, 1] <= y1)
+            )
+            inside = box[shapely.contains_xy(room, points[box, 0], points[box, 1])]
             out[inside] = e_up * up[inside] + e_down * (1 - up[inside])
         return out
 

@@ -18,6 +18,7 @@ ceiling and only blocks walking.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -93,11 +94,12 @@ def segment_hits(
 
 
 _ANY, _SUM, _PRODUCT = 0, 1, 2
+PRODUCT = _PRODUCT
 
 
-@numba.njit(cache=True)
-def _fold_crossings(p0, p1, sa, sb, seg_elem, value, mode, out):  # pragma: no cover - compiled
-    """Fold, per segment p0→p1, a value over the distinct elements it properly crosses.
+@numba.njit(cache=True, inline="always")
+def fold_segment(x0, y0, x1, y1, sa, sb, seg_elem, value, mode):  # pragma: no cover - compiled
+    """Fold a value over the distinct elements the segment (x0, y0)→(x1, y1) properly crosses.
 
     ``mode`` _ANY: 1.0 if anything is crossed; _SUM: Σ value[element];
     _PRODUCT: Π value[element] (stops at 0). Segments of one element are
@@ -105,41 +107,79 @@ def _fold_crossings(p0, p1, sa, sb, seg_elem, value, mode, out):  # pragma: no c
     diagonals) counts once. The same orientation tests as :func:`segment_hits`,
     with a bounding-box rejection first.
     """
-    n, m = p0.shape[0], sa.shape[0]
-    for i in range(n):
-        x0, y0, x1, y1 = p0[i, 0], p0[i, 1], p1[i, 0], p1[i, 1]
-        lo_x, hi_x = min(x0, x1), max(x0, x1)
-        lo_y, hi_y = min(y0, y1), max(y0, y1)
-        ex, ey = x1 - x0, y1 - y0
-        acc = 1.0 if mode == _PRODUCT else 0.0
-        counted = -1
-        for j in range(m):
-            ax, ay, bx, by = sa[j, 0], sa[j, 1], sb[j, 0], sb[j, 1]
-            if max(ax, bx) < lo_x or min(ax, bx) > hi_x or max(ay, by) < lo_y or min(ay, by) > hi_y:
-                continue
-            dx, dy = bx - ax, by - ay
-            o1 = dx * (y0 - ay) - dy * (x0 - ax)
-            o2 = dx * (y1 - ay) - dy * (x1 - ax)
-            if o1 * o2 >= 0:
-                continue
-            o3 = ex * (ay - y0) - ey * (ax - x0)
-            o4 = ex * (by - y0) - ey * (bx - x0)
-            if o3 * o4 >= 0:
-                continue
-            e = seg_elem[j]
-            if e == counted:
-                continue
-            counted = e
-            if mode == _ANY:
-                acc = 1.0
-                break
-            if mode == _SUM:
-                acc += value[e]
-            else:
-                acc *= value[e]
-                if acc == 0.0:
-                    break
-        out[i] = acc
+    lo_x, hi_x = min(x0, x1), max(x0, x1)
+    lo_y, hi_y = min(y0, y1), max(y0, y1)
+    ex, ey = x1 - x0, y1 - y0
+    acc = 1.0 if mode == _PRODUCT else 0.0
+    counted = -1
+    for j in range(sa.shape[0]):
+        ax, ay, bx, by = sa[j, 0], sa[j, 1], sb[j, 0], sb[j, 1]
+        if max(ax, bx) < lo_x or min(ax, bx) > hi_x or max(ay, by) < lo_y or min(ay, by) > hi_y:
+            continue
+        dx, dy = bx - ax, by - ay
+        o1 = dx * (y0 - ay) - dy * (x0 - ax)
+        o2 = dx * (y1 - ay) - dy * (x1 - ax)
+        if o1 * o2 >= 0:
+            continue
+        o3 = ex * (ay - y0) - ey * (ax - x0)
+        o4 = ex * (by - y0) - ey * (bx - x0)
+        if o3 * o4 >= 0:
+            continue
+        e = seg_elem[j]
+        if e == counted:
+            continue
+        counted = e
+        if mode == _ANY:
+            return 1.0
+        if mode == _SUM:
+            acc += value[e]
+        else:
+            acc *= value[e]
+            if acc == 0.0:
+                return 0.0
+    return acc
+
+
+@numba.njit(cache=True)
+def _fold_crossings(p0, p1, sa, sb, seg_elem, value, mode, out):  # pragma: no cover - compiled
+    """:func:`fold_segment` for each segment p0[i]→p1[i]."""
+    for i in range(p0.shape[0]):
+        out[i] = fold_segment(p0[i, 0], p0[i, 1], p1[i, 0], p1[i, 1], sa, sb, seg_elem, value, mode)
+
+
+@numba.njit(cache=True)
+def _nearest_on_edges(
+    p, a, b, cell_start, cell_edges, grid, max_d, out
+):  # pragma: no cover - compiled
+    """Nearest point on the edges a→b within ``max_d`` of each point p (NaN where none).
+
+    ``cell_edges[cell_start[c]:cell_start[c + 1]]`` lists the edges that come
+    within ``max_d`` of grid cell c (``grid`` = (x0, y0, cell, nx, ny)), so one
+    cell holds every candidate of a point inside it. Ties keep the first edge.
+    """
+    x0, y0, cell = grid[0], grid[1], grid[2]
+    nx, ny = int(grid[3]), int(grid[4])
+    lim = max_d * max_d
+    for i in range(p.shape[0]):
+        out[i, 0] = np.nan
+        out[i, 1] = np.nan
+        ix = math.floor((p[i, 0] - x0) / cell)
+        iy = math.floor((p[i, 1] - y0) / cell)
+        if ix < 0 or iy < 0 or ix >= nx or iy >= ny:
+            continue
+        c = iy * nx + ix
+        best = np.inf
+        for k in range(cell_start[c], cell_start[c + 1]):
+            e = cell_edges[k]
+            dx, dy = b[e, 0] - a[e, 0], b[e, 1] - a[e, 1]
+            u = ((p[i, 0] - a[e, 0]) * dx + (p[i, 1] - a[e, 1]) * dy) / (dx * dx + dy * dy)
+            u = min(max(u, 0.0), 1.0)
+            qx, qy = a[e, 0] + u * dx, a[e, 1] + u * dy
+            d2 = (p[i, 0] - qx) ** 2 + (p[i, 1] - qy) ** 2
+            if d2 <= lim and d2 < best:
+                best = d2
+                out[i, 0] = qx
+                out[i, 1] = qy
 
 
 def _as_points(x: ArrayLike, name: str) -> NDArray[np.float64]:
@@ -223,7 +263,7 @@ class FloorPlan:
 
     # ------------------------------------------------------------------ queries
 
-    @property
+    @functools.cached_property
     def bounds(self) -> tuple[float, float, float, float]:
         """(xmin, ymin, xmax, ymax) of the building including wall thickness."""
         return tuple(unary_union([self.outline, self.solid]).bounds)  # type: ignore[return-value]
@@ -232,6 +272,64 @@ class FloorPlan:
         """(N,) True where a point is free floor inside the building."""
         p = _as_points(points, "points")
         return shapely.contains_xy(self.walkable, p[:, 0], p[:, 1])
+
+    @functools.cached_property
+    def walkable_edges(self) -> NDArray[np.float64]:
+        """(M, 2, 2) end points of the edges of the walkable area's boundary (read-only)."""
+        rings = [
+            np.asarray(ring.coords)
+            for poly in getattr(self.walkable, "geoms", [self.walkable])
+            if not poly.is_empty
+            for ring in [poly.exterior, *poly.interiors]
+        ]
+        if not rings:
+            ab = np.zeros((0, 2, 2))
+        else:
+            ab = np.concatenate([np.stack([xy[:-1], xy[1:]], axis=1) for xy in rings])
+            ab = np.ascontiguousarray(ab[np.linalg.norm(ab[:, 1] - ab[:, 0], axis=1) > 1e-12])
+        ab.flags.writeable = False
+        return ab
+
+    def nearest_boundary(self, points: ArrayLike, max_distance: float) -> NDArray[np.float64]:
+        """(N, 2) nearest point of the walkable area's boundary to each point, NaN where
+        the boundary is farther than ``max_distance``."""
+        p = np.ascontiguousarray(_as_points(points, "points"))
+        out = np.empty((len(p), 2))
+        ab = self.walkable_edges
+        if len(ab) == 0:
+            out[:] = np.nan
+            return out
+        # One grid serves every distance up to its own (rounded up to 0.25 m).
+        start, edges, grid = self._edge_grid(math.ceil(float(max_distance) / 0.25) * 0.25)
+        a, b = np.ascontiguousarray(ab[:, 0]), np.ascontiguousarray(ab[:, 1])
+        _nearest_on_edges(p, a, b, start, edges, grid, float(max_distance), out)
+        return out
+
+    def _edge_grid(
+        self, max_distance: float
+    ) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.float64]]:
+        """Cells of side ``max_distance`` (at least 0.25 m) listing the edges within
+        ``max_distance`` of each; built once per distance."""
+        cache = self.__dict__.setdefault("_edge_grids", {})
+        if max_distance not in cache:
+            ab = self.walkable_edges
+            cell = max(max_distance, 0.25)
+            lo = ab.reshape(-1, 2).min(axis=0) - max_distance
+            n = np.floor((ab.reshape(-1, 2).max(axis=0) + max_distance - lo) / cell).astype(int) + 1
+            # Every cell whose square the edge's box, grown by max_distance, overlaps.
+            box_lo = np.floor((ab.min(axis=1) - max_distance - lo) / cell).astype(int)
+            box_hi = np.floor((ab.max(axis=1) + max_distance - lo) / cell).astype(int)
+            cells, owners = [], []
+            for e, (l0, l1, h0, h1) in enumerate(np.column_stack([box_lo, box_hi]).tolist()):
+                gx, gy = np.meshgrid(np.arange(l0, h0 + 1), np.arange(l1, h1 + 1))
+                cells.append((gy * n[0] + gx).ravel())
+                owners.append(np.full(gx.size, e))
+            cell_of = np.concatenate(cells)
+            order = np.argsort(cell_of, kind="stable")
+            start = np.searchsorted(cell_of[order], np.arange(n[0] * n[1] + 1))
+            grid = np.array([lo[0], lo[1], cell, n[0], n[1]], dtype=float)
+            cache[max_distance] = (start, np.concatenate(owners)[order].astype(np.intp), grid)
+        return cache[max_distance]
 
     def crosses_wall(self, p0: ArrayLike, p1: ArrayLike) -> NDArray[np.bool_]:
         """(N,) True where the straight move p0→p1 passes through a wall, pillar or obstacle.
@@ -254,6 +352,15 @@ class FloorPlan:
         element, the product of the glazing transmittances crossed otherwise."""
         a, b = self._pair(p, q)
         return self._fold(a, b, self._seg_a, self._seg_b, self._elem_transmittance, _PRODUCT)
+
+    @property
+    def light_occluders(
+        self,
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp], NDArray[np.float64]]:
+        """What :meth:`light_transmittance` folds over, for compiled callers: segment
+        starts and ends (S, 2), each segment's element (S,), and each element's
+        transmittance; pass them to :func:`fold_segment` with mode ``PRODUCT``."""
+        return self._seg_a, self._seg_b, self._seg_elem, self._elem_transmittance
 
     def crossing_loss_db(
         self,

@@ -28,6 +28,7 @@ this module gives the mean.
 
 from __future__ import annotations
 
+import functools
 import math
 import zlib
 from dataclasses import dataclass
@@ -128,12 +129,12 @@ class ShadowingField:
         x0, y0 = bounds[0] - margin_m, bounds[1] - margin_m
         nx = math.ceil((bounds[2] + margin_m - x0) / h) + 1
         ny = math.ceil((bounds[3] + margin_m - y0) / h) + 1
-        eigenvalues = _embedding_eigenvalues(nx, ny, h, correlation_m)
-        mx, my = eigenvalues.shape
+        amplitude = _embedding_amplitude(nx, ny, h, correlation_m)
+        mx, my = amplitude.shape
         noise = rng.standard_normal((2, mx, my))
         # Re and Im of this FFT are two independent fields with the embedded
         # covariance (Dietrich & Newsam); one is enough.
-        field = scipy.fft.fft2(np.sqrt(eigenvalues / (mx * my)) * (noise[0] + 1j * noise[1]))
+        field = scipy.fft.fft2(amplitude * (noise[0] + 1j * noise[1]))
         values = sigma_db * np.ascontiguousarray(field.real[:nx, :ny])
         return cls(origin=(x0, y0), spacing_m=h, values=values)
 
@@ -149,6 +150,16 @@ class ShadowingField:
         return (1 - tx) * ((1 - ty) * v[ix, iy] + ty * v[ix, iy + 1]) + tx * (
             (1 - ty) * v[ix + 1, iy] + ty * v[ix + 1, iy + 1]
         )
+
+
+@functools.lru_cache(maxsize=8)
+def _embedding_amplitude(nx: int, ny: int, h: float, correlation_m: float) -> NDArray[np.float64]:
+    """√(λ/(mx·my)) of :func:`_embedding_eigenvalues`: the same for every AP of a
+    site, so it is computed once (read-only)."""
+    eigenvalues = _embedding_eigenvalues(nx, ny, h, correlation_m)
+    out = np.sqrt(eigenvalues / (eigenvalues.shape[0] * eigenvalues.shape[1]))
+    out.flags.writeable = False
+    return out
 
 
 def _embedding_eigenvalues(nx: int, ny: int, h: float, correlation_m: float) -> NDArray[np.float64]:

@@ -64,3 +64,25 @@ def test_queries_outside_the_trajectory_are_refused():
 def test_normal_gravity_at_equator_and_pole():
     assert normal_gravity(0.0) == pytest.approx(9.7803253359)
     assert normal_gravity(90.0) == pytest.approx(9.8321849378, abs=1e-8)
+
+
+def test_compiled_attitude_kernels_match_the_quaternion_helpers():
+    from indoorsim import quaternion as quat_ops
+
+    rng = np.random.default_rng(6)
+    t = np.cumsum(rng.uniform(0.004, 0.006, 3000))
+    q = Rotation.from_rotvec(np.cumsum(rng.normal(0, 0.05, (3000, 3)), axis=0)).as_quat(
+        scalar_first=True
+    )
+    q[::7] *= -1  # sign flips, which the trajectory makes continuous
+    imu = IdealImu(t, rng.normal(size=(3000, 3)), q)
+    ts = np.sort(rng.uniform(t[0], t[-1], 5000))
+    ref_q = quat_ops.slerp(t, imu._quat, ts)
+    np.testing.assert_allclose(imu.quaternion(ts), ref_q, atol=1e-15)
+    v = rng.normal(size=(5000, 3))
+    np.testing.assert_allclose(imu.to_world_frame(ts, v), quat_ops.rotate(ref_q, v), atol=1e-14)
+    np.testing.assert_allclose(
+        imu.to_phone_frame(ts, v), quat_ops.rotate(quat_ops.conjugate(ref_q), v), atol=1e-14
+    )
+    rate = quat_ops.relative_rotvec(imu._quat[:-1], imu._quat[1:]) / np.diff(t)[:, None]
+    np.testing.assert_allclose(imu.angular_rate(imu._t_mid), rate, atol=1e-12)

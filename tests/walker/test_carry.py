@@ -313,3 +313,34 @@ def test_same_seed_same_phone(l_body):
         np.testing.assert_array_equal(getattr(a, field), getattr(b, field))
     c = carry(l_body, MIXED, np.random.default_rng(9))
     assert not np.array_equal(a.quat, c.quat)
+
+
+def test_fft_gaussian_smoothing_equals_scipys_filter():
+    from scipy.ndimage import gaussian_filter1d
+
+    x = np.random.default_rng(8).standard_normal(5000)
+    for sigma in (3.0, 100.0):
+        np.testing.assert_allclose(
+            carry_module._gaussian_smooth(x, sigma), gaussian_filter1d(x, sigma), atol=1e-13
+        )
+
+
+def test_compiled_rotation_product_matches_scipy():
+    rng = np.random.default_rng(9)
+    a = Rotation.random(500, random_state=1)
+    b = Rotation.random(500, random_state=2)
+    c = Rotation.random(random_state=3)
+    got = carry_module._compose(
+        a.as_quat(scalar_first=True), b.as_quat(scalar_first=True), c.as_quat(scalar_first=True)
+    )
+    np.testing.assert_allclose(
+        np.abs(np.einsum("ij,ij->i", got, (a * b * c).as_quat(scalar_first=True))), 1.0, atol=1e-12
+    )
+    angle = rng.uniform(-4, 4, 50)
+    for axis in "xyz":
+        ref = Rotation.from_rotvec(np.multiply.outer(angle, np.eye(3)["xyz".index(axis)]))
+        np.testing.assert_allclose(
+            carry_module._rotation(carry_module._about(axis, angle)).as_matrix(),
+            ref.as_matrix(),
+            atol=1e-12,
+        )

@@ -312,3 +312,31 @@ def test_same_seed_same_walk_other_seed_other_walk(l_plan, room_to_corridor_end)
         np.testing.assert_array_equal(getattr(runs[0], field), getattr(runs[1], field))
     assert runs[0].steps.equals(runs[1].steps)
     assert not np.array_equal(runs[0].steps["length"], runs[2].steps["length"])
+
+
+def test_a_walk_cut_short_is_the_whole_walk_up_to_the_cut(l_plan, room_to_corridor_end):
+    params = WalkerParams(stop_rate_per_min=2.0)
+    whole = walk(l_plan, room_to_corridor_end, params, np.random.default_rng(3))
+    cut = walk(l_plan, room_to_corridor_end, params, np.random.default_rng(3), until_s=9.0)
+    assert cut.t[-1] < whole.t[-1] - 2.0
+    k = int(np.searchsorted(whole.t, 9.0, side="right"))
+    a, b = whole.window(0, k), cut.window(0, k)
+    for name in ("t", "pos", "heading", "yaw", "speed", "step_phase", "gait_envelope"):
+        np.testing.assert_allclose(getattr(b, name), getattr(a, name), rtol=0, atol=1e-12)
+    assert b.steps.equals(a.steps)
+
+
+def test_steering_copies_the_plan_only_where_the_physics_would(corridor, monkeypatch):
+    # The disc's physics is skipped where the plan keeps clear of every wall
+    # and the disc is on it: the walk must come out as with every step simulated.
+    from indoorsim.walker import gait
+
+    route = plan_route(
+        corridor, RouteSpec(waypoints=[(1.0, 1.5), (10.0, 1.5), (20.0, 0.2), (30.0, 1.5)])
+    )
+    params = WalkerParams(wall_distance_m=0.0)  # the route runs into the wall: contacts
+    fast = walk(corridor, route, params, np.random.default_rng(4))
+    monkeypatch.setattr(gait, "_STEER_MIN_SKIP", 10**9)
+    full = walk(corridor, route, params, np.random.default_rng(4))
+    np.testing.assert_allclose(fast.pos, full.pos, rtol=0, atol=1e-9)
+    assert (full.pos[:, 1] > 0.1 + 0.25 - 0.035).all()  # the wall held the disc off

@@ -146,3 +146,20 @@ def test_generated_office_routes_are_walkable():
         route = plan_route(plan, RouteSpec(start=(a.x, a.y), goal=(b.x, b.y)))
         assert _legs_walkable(plan, route)
         assert route.length >= a.distance(b)
+
+
+def test_visibility_shortcuts_agree_with_shapely():
+    # _visible settles most segments with a midpoint test and a compiled
+    # proper-crossing test before shapely's exact one: same answers.
+    from indoorsim.walker import route as route_module
+
+    plan = FloorPlan(parse_scenario(l_scenario()))
+    free = plan.walkable.buffer(-0.35, join_style="mitre", mitre_limit=2.0)
+    sight = free.buffer(1e-7, join_style="mitre")
+    rng = np.random.default_rng(10)
+    nodes = route_module._reflex_vertices(free)
+    a = np.concatenate([rng.uniform(-0.5, 12.5, (2000, 2)), nodes[[0] * len(nodes)]])
+    b = np.concatenate([rng.uniform(-0.5, 12.5, (2000, 2)), nodes])
+    want = shapely.covers(sight, shapely.linestrings(np.stack([a, b], 1)))
+    np.testing.assert_array_equal(route_module._visible(sight, a, b), want)
+    assert want.any() and not want.all()

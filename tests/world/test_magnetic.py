@@ -155,3 +155,117 @@ def test_anomaly_near_pillar_is_tens_of_microtesla_and_decays():
     mag = np.linalg.norm(model.anomaly(pts), axis=1)
     assert mag[0] > mag[1] > mag[2]
     assert 3 < mag[0] < 200
+
+
+# ---------------------------------------------------------------- along a path
+# MagneticModel.field_along approximates the smooth far part of the sum; its
+# error must stay far below a phone magnetometer's noise (0.2–1 µT, REALISM §1.5).
+
+
+def _bands():
+    from indoorsim.world import magnetic as mg
+
+    return [
+        (mg._ALWAYS, mg.PATH_BANDS[0]),
+        (mg.PATH_BANDS[0], mg.PATH_BANDS[1]),
+        (mg.PATH_BANDS[1], mg._NEVER),
+    ]
+
+
+@pytest.fixture(scope="module")
+def office():
+    import indoorsim
+    from indoorsim.world.generate import generate
+
+    return indoorsim.load_site(generate("office", seed=5))
+
+
+def test_path_bands_add_up_to_the_exact_sum(office):
+    model = office.magnetic
+    b = office.plan.bounds
+    rng = np.random.default_rng(2)
+    pts = np.column_stack(
+        [rng.uniform(b[0], b[2], 300), rng.uniform(b[1], b[3], 300), rng.uniform(0.2, 2.0, 300)]
+    )
+    total = sum(model._band(pts, inner, outer) for inner, outer in _bands())
+    np.testing.assert_allclose(total, model.anomaly(pts), rtol=1e-9, atol=1e-9)
+
+
+def test_band_gradient_is_the_derivative_of_the_band(office):
+    model = office.magnetic
+    rng = np.random.default_rng(3)
+    b = office.plan.bounds
+    pts = np.column_stack(
+        [rng.uniform(b[0], b[2], 50), rng.uniform(b[1], b[3], 50), rng.uniform(0.5, 1.5, 50)]
+    )
+    for inner, outer in _bands()[1:]:
+        jac = np.zeros((len(pts), 3, 3))
+        model._band(pts, inner, outer, jac)
+        h = 1e-5
+        for k in range(3):
+            e = np.zeros(3)
+            e[k] = h
+            fd = (model._band(pts + e, inner, outer) - model._band(pts - e, inner, outer)) / (2 * h)
+            np.testing.assert_allclose(jac[:, :, k], fd, atol=1e-7 * np.abs(jac).max())
+
+
+@pytest.mark.parametrize("mode", ["handheld", "calling", "dangling", "pocketed"])
+def test_path_field_is_within_its_bound_of_the_exact_sum_in_every_mode(office, mode):
+    from indoorsim.phone.kinematics import IdealImu
+    from indoorsim.simulate import PATH_FIELD_ERROR_UT, run_streams
+    from indoorsim.walker.carry import carry
+    from indoorsim.walker.gait import WalkerParams, walk
+    from indoorsim.walker.route import plan_route
+
+    # A brisk, tall walker (fast hands and feet) around the office's corridor loop.
+    route = plan_route(office.plan, office.scenario.routes["round_trip"])
+    rngs = run_streams(7)
+    body = walk(office.plan, route, WalkerParams(speed_mps=1.5, height_m=1.9), rngs["walker"])
+    body = body.window(0, int(np.searchsorted(body.t, 75.0)))
+    phone = carry(body, mode, rngs["carry"])
+    imu = IdealImu(phone.t, phone.pos, phone.quat)
+    t = np.arange(phone.t[0], phone.t[-1], 0.01)  # a 100 Hz magnetometer
+    fast = office.magnetic.field_along(t, imu.position, phone.t, phone.pos)
+    exact = office.magnetic.field(imu.position(t))
+    assert t[-1] > 60.0  # a minute of walking, turns included
+    assert np.linalg.norm(fast - exact, axis=1).max() < PATH_FIELD_ERROR_UT
+
+
+def test_path_field_of_a_fast_swing_past_a_strong_source():
+    # A 100 A·m² source (a lift car) 0.4 m from a hand swinging ±0.3 m at 1 Hz
+    # while the walker passes at 1.5 m/s: the field changes by tens of µT.
+    model = MagneticModel(
+        earth_field_uT=np.array([0.0, 30.0, -40.0]),
+        positions=np.array([[5.0, 0.4, 1.0], *[[x, 3.0, -0.15] for x in range(12)]]),
+        moments=np.array([[60.0, -40.0, 60.0], *[[3.0, 1.0, 4.0]] * 12]),
+        sources=np.array(["dipole"] + ["rebar"] * 12),
+    )
+    t_path = np.arange(0.0, 8.0, 0.005)
+    pos = np.column_stack(
+        [
+            1.5 * t_path + 0.3 * np.sin(2 * np.pi * t_path),
+            np.zeros_like(t_path),
+            1.0 + 0.05 * np.cos(4 * np.pi * t_path),
+        ]
+    )
+
+    def position(t):
+        return np.column_stack([np.interp(t, t_path, pos[:, k]) for k in range(3)])
+
+    t = np.arange(0.0, t_path[-1], 0.01)
+    fast = model.field_along(t, position, t_path, pos)
+    exact = model.field(position(t))
+    assert np.linalg.norm(exact - model.earth_field_uT, axis=1).max() > 20.0
+    assert np.linalg.norm(fast - exact, axis=1).max() < 0.01
+
+
+def test_path_field_of_a_point_at_rest_is_the_exact_field(office):
+    t_path = np.arange(0.0, 30.0, 0.005)
+    pos = np.tile([12.0, 5.0, 1.1], (len(t_path), 1))
+
+    def position(t):
+        return np.tile([12.0, 5.0, 1.1], (len(t), 1))
+
+    t = np.arange(0.0, 29.0, 0.02)
+    fast = office.magnetic.field_along(t, position, t_path, pos)
+    np.testing.assert_allclose(fast, office.magnetic.field(position(t)), atol=1e-9)

@@ -122,3 +122,21 @@ def test_rooms_are_the_closed_faces_of_the_wall_graph():
     plan = _two_rooms()
     assert len(plan.rooms) == 2
     assert sorted(round(r.area, 6) for r in plan.rooms) == [30.0, 30.0]
+
+
+def test_nearest_boundary_point_agrees_with_shapely():
+    plan = _two_rooms(
+        pillars=[{"center": [2.5, 3.0]}],
+        obstacles=[{"kind": "desk", "center": [7.5, 3], "size": [1.6, 0.8]}],
+    )
+    rng = np.random.default_rng(5)
+    pts = rng.uniform(-0.5, 10.5, (3000, 2))
+    near = plan.nearest_boundary(pts, 0.4)
+    boundary = plan.walkable.boundary
+    dist = shapely.distance(shapely.points(pts), boundary)
+    found = ~np.isnan(near[:, 0])
+    # Points within the distance (and only those) get a boundary point, the nearest one.
+    np.testing.assert_array_equal(found, dist <= 0.4)
+    np.testing.assert_allclose(np.hypot(*(near[found] - pts[found]).T), dist[found], atol=1e-12)
+    on_boundary = shapely.distance(shapely.points(near[found]), boundary)
+    np.testing.assert_allclose(on_boundary, 0.0, atol=1e-9)
