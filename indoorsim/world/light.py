@@ -37,6 +37,8 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 from shapely.geometry import LineString, Point, Polygon
 
+from indoorsim.world.plan import crosses_properly
+
 if TYPE_CHECKING:
     from indoorsim.scenario import ReflectanceSpec, Scenario, WallSpec, WindowSpec
     from indoorsim.world.plan import FloorPlan
@@ -372,23 +374,10 @@ def _shadows_disc(sx, sy, cx, cy, rho, sa, sb, elem, value, idx):  # pragma: no 
 def _transmittance(x0, y0, x1, y1, sa, sb, elem, value, idx):  # pragma: no cover - compiled
     """Π value[element] over the distinct elements among segments ``idx`` that
     (x0, y0)→(x1, y1) properly crosses (:func:`~indoorsim.world.plan.fold_segment`)."""
-    lo_x, hi_x = min(x0, x1), max(x0, x1)
-    lo_y, hi_y = min(y0, y1), max(y0, y1)
-    ex, ey = x1 - x0, y1 - y0
     acc = 1.0
     counted = -1
     for j in idx:
-        ax, ay, bx, by = sa[j, 0], sa[j, 1], sb[j, 0], sb[j, 1]
-        if max(ax, bx) < lo_x or min(ax, bx) > hi_x or max(ay, by) < lo_y or min(ay, by) > hi_y:
-            continue
-        dx, dy = bx - ax, by - ay
-        o1 = dx * (y0 - ay) - dy * (x0 - ax)
-        o2 = dx * (y1 - ay) - dy * (x1 - ax)
-        if o1 * o2 >= 0:
-            continue
-        o3 = ex * (ay - y0) - ey * (ax - x0)
-        o4 = ex * (by - y0) - ey * (bx - x0)
-        if o3 * o4 >= 0:
+        if not crosses_properly(x0, y0, x1, y1, sa[j, 0], sa[j, 1], sb[j, 0], sb[j, 1]):
             continue
         e = elem[j]
         if e == counted:

@@ -98,6 +98,25 @@ PRODUCT = _PRODUCT
 
 
 @numba.njit(cache=True, inline="always")
+def crosses_properly(x0, y0, x1, y1, ax, ay, bx, by):  # pragma: no cover - compiled
+    """Whether (x0, y0)→(x1, y1) properly crosses a→b: the orientation tests of
+    :func:`segment_hits`, after a bounding-box rejection."""
+    if max(ax, bx) < min(x0, x1) or min(ax, bx) > max(x0, x1):
+        return False
+    if max(ay, by) < min(y0, y1) or min(ay, by) > max(y0, y1):
+        return False
+    dx, dy = bx - ax, by - ay
+    o1 = dx * (y0 - ay) - dy * (x0 - ax)
+    o2 = dx * (y1 - ay) - dy * (x1 - ax)
+    if o1 * o2 >= 0:
+        return False
+    ex, ey = x1 - x0, y1 - y0
+    o3 = ex * (ay - y0) - ey * (ax - x0)
+    o4 = ex * (by - y0) - ey * (bx - x0)
+    return o3 * o4 < 0
+
+
+@numba.njit(cache=True, inline="always")
 def fold_segment(x0, y0, x1, y1, sa, sb, seg_elem, value, mode):  # pragma: no cover - compiled
     """Fold a value over the distinct elements the segment (x0, y0)→(x1, y1) properly crosses.
 
@@ -107,23 +126,10 @@ def fold_segment(x0, y0, x1, y1, sa, sb, seg_elem, value, mode):  # pragma: no c
     diagonals) counts once. The same orientation tests as :func:`segment_hits`,
     with a bounding-box rejection first.
     """
-    lo_x, hi_x = min(x0, x1), max(x0, x1)
-    lo_y, hi_y = min(y0, y1), max(y0, y1)
-    ex, ey = x1 - x0, y1 - y0
     acc = 1.0 if mode == _PRODUCT else 0.0
     counted = -1
     for j in range(sa.shape[0]):
-        ax, ay, bx, by = sa[j, 0], sa[j, 1], sb[j, 0], sb[j, 1]
-        if max(ax, bx) < lo_x or min(ax, bx) > hi_x or max(ay, by) < lo_y or min(ay, by) > hi_y:
-            continue
-        dx, dy = bx - ax, by - ay
-        o1 = dx * (y0 - ay) - dy * (x0 - ax)
-        o2 = dx * (y1 - ay) - dy * (x1 - ax)
-        if o1 * o2 >= 0:
-            continue
-        o3 = ex * (ay - y0) - ey * (ax - x0)
-        o4 = ex * (by - y0) - ey * (bx - x0)
-        if o3 * o4 >= 0:
+        if not crosses_properly(x0, y0, x1, y1, sa[j, 0], sa[j, 1], sb[j, 0], sb[j, 1]):
             continue
         e = seg_elem[j]
         if e == counted:
