@@ -241,28 +241,6 @@ class ChickenParticleFilter(ParticleFilter):
             + (s2 * u[:, 1])[:, None] * (target2 - x_h)
         )
 
-    def step(
-        self,
-        step_length: float,
-        delta_heading: float,
-        likelihood_fn: LikelihoodFn,
-        rng: np.random.Generator,
-    ) -> NDArray[np.float64]:
-        """One whole CPF step: predict, update, swarm, estimate, resample if needed.
-
-        Args:
-            step_length: SL, m.
-            delta_heading: building-frame heading change since the last step, rad.
-            likelihood_fn: (N, 2) positions → (N,) likelihood of this step's
-                measurements (the product of Eq. 27's factors).
-            rng: the random generator.
-
-        Returns:
-            (2,) the weighted mean position after the swarm's re-weighting.
-        """
-        self.predict(step_length, delta_heading, rng)
-        self.update(likelihood_fn(self.x))
+    def refine(self, likelihood_fn: LikelihoodFn, rng: np.random.Generator) -> None:
+        """The chicken swarm between the update and the estimate (:meth:`swarm`)."""
         self.swarm(likelihood_fn, rng)
-        position = self.estimate()
-        self.resample_if_needed(rng)
-        return position

@@ -358,11 +358,18 @@ class ParticleFilter:
             rng: the random generator.
 
         Returns:
-            (2,) the weighted mean position after the update (before resampling,
-            which only adds noise to it).
+            (2,) the weighted mean position after the update and :meth:`refine`
+            (before resampling, which only adds noise to it).
         """
         self.predict(step_length, delta_heading, rng)
         self.update(likelihood_fn(self.x))
+        self.refine(likelihood_fn, rng)
         position = self.estimate()
         self.resample_if_needed(rng)
         return position
+
+    def refine(self, likelihood_fn: LikelihoodFn, rng: np.random.Generator) -> None:
+        """Move or re-weight the particles between update and estimate; nothing for the PF.
+
+        The chicken particle filter's swarm goes here.
+        """

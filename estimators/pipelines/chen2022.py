@@ -800,8 +800,11 @@ class Chen2022FrontEnd:
         )
         return pf
 
-    def _particle_heading(self, pf: ParticleFilter | None) -> float:
-        """The particles' weighted circular mean heading; dead reckoning's without particles."""
+    @property
+    def heading(self) -> float:
+        """The particles' weighted circular mean heading, rad counter-clockwise from +x;
+        dead reckoning's before the filter has particles (or for a filter without them)."""
+        pf: ParticleFilter | None = getattr(self, "particle_filter", None)
         if pf is None or not len(pf.w):
             return float(self.dr.heading)
         return float(np.arctan2(pf.w @ np.sin(pf.heading), pf.w @ np.cos(pf.heading)))
@@ -854,11 +857,6 @@ class Chen2022Cpf(Chen2022FrontEnd):
         wifi = WifiSequenceMatcher(scans=self.wifi_scans, k=self.wifi_k)
         return (magnetic if self.use_magnetic else None, wifi if self.use_wifi else None)
 
-    @property
-    def heading(self) -> float:
-        """The particles' weighted circular mean heading, rad counter-clockwise from +x."""
-        return self._particle_heading(self.particle_filter)
-
     def reset(self, start: StartInfo) -> None:
         self._start(start)
         self.particle_filter = self._start_particles(
@@ -879,8 +877,7 @@ class Chen2022Cpf(Chen2022FrontEnd):
             fn = self._likelihood(f)
             if fn is not None:
                 pf.update(fn(pf.x))
-                if isinstance(pf, ChickenParticleFilter):
-                    pf.swarm(fn, self._rng)
+                pf.refine(fn, self._rng)  # the CPF's swarm; nothing for the PF
             self._position = pf.estimate()
             pf.resample_if_needed(self._rng)
         return self._position.copy()

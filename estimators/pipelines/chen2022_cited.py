@@ -741,11 +741,6 @@ class Apf(Chen2022FrontEnd):
     def _matchers(self) -> tuple[MagneticSequenceMatcher | None, WifiSequenceMatcher | None]:
         return None, MdedWifiMatcher(scans=self.wifi_scans, k=self.wifi_k)
 
-    @property
-    def heading(self) -> float:
-        """The particles' weighted circular mean heading, rad counter-clockwise from +x."""
-        return self._particle_heading(self.particle_filter)
-
     def reset(self, start: StartInfo) -> None:
         self._start(start)
         self.particle_filter = self._start_particles(
@@ -851,11 +846,6 @@ class WiMag(Chen2022FrontEnd):
         if tracker.magnetic is not None:
             e = replay_errors(tracker, self.dr, site, train)
             self.r_magnetic_m2 = fix_variance_m2(e.magnetic_m, self.r_magnetic_m2)
-
-    @property
-    def heading(self) -> float:
-        """The particles' weighted circular mean heading, rad counter-clockwise from +x."""
-        return self._particle_heading(self.particle_filter)
 
     def reset(self, start: StartInfo) -> None:
         self._start(start)
