@@ -198,13 +198,18 @@ _CHUNK_REACH = 0.3
 
 @numba.njit(cache=True, inline="always")
 def _band_weight(r, a_in, k_in, a_out, k_out):  # pragma: no cover - compiled
-    """A band's weight at distance r: smootherstep up from a_in minus smootherstep up from a_out
-    (each the C⁴ polynomial 126x⁵ − 420x⁶ + 540x⁷ − 315x⁸ + 70x⁹ over its ramp)."""
+    """A band's weight at distance r and its two ramp coordinates (xi, xo).
+
+    The weight is smootherstep up from a_in minus smootherstep up from a_out,
+    each the C⁴ polynomial 126x⁵ − 420x⁶ + 540x⁷ − 315x⁸ + 70x⁹ of its ramp
+    coordinate x ∈ [0, 1]; the coordinates give the weight's derivative.
+    """
     xi = min(max((r - a_in) * k_in, 0.0), 1.0)
     xo = min(max((r - a_out) * k_out, 0.0), 1.0)
-    return xi * xi * xi * xi * xi * (
+    w = xi * xi * xi * xi * xi * (
         126.0 + xi * (-420.0 + xi * (540.0 + xi * (-315.0 + 70.0 * xi)))
     ) - xo * xo * xo * xo * xo * (126.0 + xo * (-420.0 + xo * (540.0 + xo * (-315.0 + 70.0 * xo))))
+    return w, xi, xo
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -298,7 +303,7 @@ def _band_field(
             for i in range(m_pts):
                 rx, ry, rz = p[0, i] - qx, p[1, i] - qy, p[2, i] - qz
                 r = math.sqrt(rx * rx + ry * ry + rz * rz)
-                w = _band_weight(r, a_in, k_in, a_out, k_out)
+                w, _, _ = _band_weight(r, a_in, k_in, a_out, k_out)
                 rc = max(r, r_min)
                 inv_r2 = 1.0 / (rc * rc)
                 inv_r3 = inv_r2 / rc
@@ -313,9 +318,7 @@ def _band_field(
             for i in range(m_pts):
                 rx, ry, rz = p[0, i] - qx, p[1, i] - qy, p[2, i] - qz
                 r = math.sqrt(rx * rx + ry * ry + rz * rz)
-                xi = min(max((r - a_in) * k_in, 0.0), 1.0)  # for the weight's derivative
-                xo = min(max((r - a_out) * k_out, 0.0), 1.0)
-                w = _band_weight(r, a_in, k_in, a_out, k_out)
+                w, xi, xo = _band_weight(r, a_in, k_in, a_out, k_out)
                 rc = max(r, r_min)
                 inv_r2 = 1.0 / (rc * rc)
                 inv_r3 = inv_r2 / rc
