@@ -51,9 +51,6 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-# Event kinds, in the order they are processed when timestamps tie: the state is
-# propagated to a time before the measurements taken at that time update it.
-_GYRO, _ACC, _MAG = 0, 1, 2
 _NOMINAL_GRAVITY = 9.81  # what the AOSP filter assumes, m/s²
 
 
@@ -129,20 +126,24 @@ def fuse(
     for name, arr in (("accel", accel), ("gyro", gyro), ("mag", mag)):
         if len(arr) == 0:
             raise ValueError(f"fuse: the {name} stream is empty; fused sensors need all three")
-    t = np.concatenate([t_accel, t_mag, t_gyro]).astype(float)
-    kind = np.concatenate(
-        [np.full(len(t_accel), _ACC), np.full(len(t_mag), _MAG), np.full(len(t_gyro), _GYRO)]
-    ).astype(np.int64)
-    data = np.concatenate([accel, mag, gyro]).astype(float)
-    order = np.lexsort((kind, t))
+    # The compiled loop merges the three streams itself, in time order, so each
+    # stream must be in time order: the simulator's are; others are stably
+    # sorted here and their outputs mapped back below.
+    streams = [
+        _in_time_order(t_gyro, gyro),
+        _in_time_order(t_accel, accel),
+        _in_time_order(t_mag, mag),
+    ]
+    (tg, g, g_order), (ta, a, a_order), (tm, m, _) = streams
     rot, game, bias, grav = _run(
-        t[order],
-        kind[order],
-        np.ascontiguousarray(data[order]),
+        tg,
+        g,
+        ta,
+        a,
+        tm,
+        m,
         np.asarray(accel[np.argmin(t_accel)], float),
         np.asarray(mag[np.argmin(t_mag)], float),
-        len(t_gyro),
-        len(t_accel),
         p.gyro_var,
         p.gyro_bias_var,
         p.acc_stdev,
@@ -151,23 +152,39 @@ def fuse(
         p.max_field_uT**2,
         gravity_mps2,
     )
-    # Samples were processed in time order; map outputs back to each stream's order.
-    g_order = np.argsort(t_gyro, kind="stable")
-    a_order = np.argsort(t_accel, kind="stable")
-    rotation, game_rotation, gyro_bias, gravity = (
-        np.empty_like(x) for x in (rot, game, bias, grav)
-    )
-    rotation[g_order], game_rotation[g_order], gyro_bias[g_order] = rot, game, bias
-    gravity[a_order] = grav
+    if g_order is not None:
+        rot, game, bias = (_unsort(x, g_order) for x in (rot, game, bias))
+    if a_order is not None:
+        grav = _unsort(grav, a_order)
     return FusedStreams(
         t_rotation=np.asarray(t_gyro, float),
-        rotation=rotation,
-        game_rotation=game_rotation,
-        gyro_bias=gyro_bias,
+        rotation=rot,
+        game_rotation=game,
+        gyro_bias=bias,
         t_gravity=np.asarray(t_accel, float),
-        gravity=gravity,
-        linear_accel=np.asarray(accel, float) - gravity,
+        gravity=grav,
+        linear_accel=np.asarray(accel, float) - grav,
     )
+
+
+def _in_time_order(
+    t: NDArray, x: NDArray
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp] | None]:
+    """``t`` and ``x`` as contiguous float arrays in time order, and the order that
+    sorted them (None when they already were: the usual case, and no copy)."""
+    t = np.ascontiguousarray(t, dtype=np.float64)
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    if np.all(t[1:] >= t[:-1]):  # False with any NaN: those are sorted (last) below
+        return t, x, None
+    order = np.argsort(t, kind="stable")
+    return t[order], np.ascontiguousarray(x[order]), order
+
+
+def _unsort(y: NDArray[np.float64], order: NDArray[np.intp]) -> NDArray[np.float64]:
+    """Rows of ``y``, computed in the order ``order``, put back in the input order."""
+    out = np.empty_like(y)
+    out[order] = y
+    return out
 
 
 # ----------------------------------------------------------------- compiled core
@@ -260,18 +277,6 @@ def _triad(acc, mag, q):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _mm(a, b, out):  # pragma: no cover - compiled
-    """out = a @ b for small matrices, without allocating."""
-    n, m, k = a.shape[0], b.shape[1], a.shape[1]
-    for i in range(n):
-        for j in range(m):
-            acc = 0.0
-            for r in range(k):
-                acc += a[i, r] * b[r, j]
-            out[i, j] = acc
-
-
-@numba.njit(cache=True, inline="always", error_model="numpy")
 def _predict(q, b, P, w_meas, dt, gyro_var, bias_var, ws):  # pragma: no cover - compiled
     """Propagate q and P over dt with the bias-corrected body rate.
 
@@ -289,10 +294,20 @@ def _predict(q, b, P, w_meas, dt, gyro_var, bias_var, ws):  # pragma: no cover -
     s = sh / nw
     dq[0], dq[1], dq[2], dq[3] = ch, we[0] * s, we[1] * s, we[2] * s
     _quat_mul_into(q, dq, qn)  # q ← q ⊗ δq(ω dt)
-    q[:] = qn
+    for i in range(4):
+        q[i] = qn[i]
     _normalise(q)
     _skew(we, wx)
-    _mm(wx, wx, wx2)
+    # wx2 = wx @ wx. The products with wx's zero diagonal are left out: each is
+    # ±0 added to a sum that starts at +0, which never changes the sum's bits
+    # (for finite rates), so this is exactly the full product, at 12 of 27 products.
+    for i in range(3):
+        for j in range(3):
+            acc = 0.0
+            for r in range(3):
+                if r != i and r != j:
+                    acc += wx[i, r] * wx[r, j]
+            wx2[i, j] = acc
     k_sin, k_cos = 2.0 * sh * ch, 1.0 - 2.0 * sh * sh  # sin θ, cos θ from the half angle
     c1, c2 = k_sin / nw, (1 - k_cos) / (nw * nw)
     c3 = (th - k_sin) / (nw * nw * nw)
@@ -334,39 +349,41 @@ def _predict(q, b, P, w_meas, dt, gyro_var, bias_var, ws):  # pragma: no cover -
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _update(q, b, P, z, ref_world, sigma, estimate_bias, ws):  # pragma: no cover - compiled
+def _update(q, b, P, rmat, z, ref_world, sigma, estimate_bias, ws):  # pragma: no cover - compiled
     """EKF update with a unit reference direction ``ref_world`` measured as ``z`` (body frame).
 
-    h(q) = R(q)ᵀ r and h(q ⊗ δq) ≈ h + [h×] δθ, so H = [[h×], 0].
+    h(q) = R(q)ᵀ r and h(q ⊗ δq) ≈ h + [h×] δθ, so H = [[h×], 0]. ``rmat`` is
+    R(q), from the caller, which needs it too.
     """
-    rmat, h, H, S, Si, K, HP, dq, qn, e = (
+    h, H, S, Si, K, HP, dq, qn, e = (
         ws[7],
         ws[8],
         ws[9],
         ws[10],
         ws[11],
         ws[12],
-        ws[13],
         ws[1],
         ws[2],
-        ws[14],
+        ws[13],
     )
-    _rotmat(q, rmat)
     for i in range(3):
         h[i] = rmat[0, i] * ref_world[0] + rmat[1, i] * ref_world[1] + rmat[2, i] * ref_world[2]
     _skew(h, H)
-    # HP = H P[:3, :] (3 × 6); S = H P00 Hᵀ + σ² I.
+    # HP = H P[:3, :] (3 × 6); S = H P00 Hᵀ + σ² I. As in _predict, the products
+    # with H's zero diagonal are left out: exactly the same sums.
     for i in range(3):
         for j in range(6):
             acc = 0.0
             for r in range(3):
-                acc += H[i, r] * P[r, j]
+                if r != i:
+                    acc += H[i, r] * P[r, j]
             HP[i, j] = acc
     for i in range(3):
         for j in range(3):
             acc = 0.0
             for r in range(3):
-                acc += HP[i, r] * H[j, r]
+                if r != j:
+                    acc += HP[i, r] * H[j, r]
             S[i, j] = acc + (sigma * sigma if i == j else 0.0)
     det = (
         S[0, 0] * (S[1, 1] * S[2, 2] - S[1, 2] * S[2, 1])
@@ -403,7 +420,8 @@ def _update(q, b, P, z, ref_world, sigma, estimate_bias, ws):  # pragma: no cove
     for i in range(3):
         dq[1 + i] = 0.5 * (K[i, 0] * e[0] + K[i, 1] * e[1] + K[i, 2] * e[2])
     _quat_mul_into(q, dq, qn)
-    q[:] = qn
+    for i in range(4):
+        q[i] = qn[i]
     _normalise(q)
     if estimate_bias:
         for i in range(3):
@@ -420,7 +438,6 @@ def _workspace():  # pragma: no cover - compiled
         np.empty((3, 3)),
         np.empty((6, 6)),
         np.empty((6, 6)),
-        np.empty((3, 3)),
         np.empty(3),
         np.empty((3, 3)),
         np.empty((3, 3)),
@@ -431,15 +448,27 @@ def _workspace():  # pragma: no cover - compiled
     )
 
 
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _before(t_early, t_late):  # pragma: no cover - compiled
+    """Whether a sample at ``t_early`` of an earlier stream in the tie order comes
+    before one at ``t_late`` of a later stream: time order, NaN times last.
+
+    When timestamps tie, gyro goes before accel before mag: the state is propagated
+    to a time before the measurements taken at that time update it.
+    """
+    return t_early <= t_late or np.isnan(t_late)
+
+
 @numba.njit(cache=True, error_model="numpy")
 def _run(
-    t,
-    kind,
-    data,
+    t_gyro,
+    gyro,
+    t_acc,
+    acc,
+    t_mag,
+    mag,
     first_acc,
     first_mag,
-    n_gyro,
-    n_acc,
     gyro_var,
     bias_var,
     acc_std,
@@ -448,72 +477,91 @@ def _run(
     max_b2,
     g_out,
 ):  # pragma: no cover - compiled
+    n_gyro, n_acc, n_mag = len(t_gyro), len(t_acc), len(t_mag)
     rot = np.empty((n_gyro, 4))
     game = np.empty((n_gyro, 4))
     bias = np.empty((n_gyro, 3))
     grav = np.empty((n_acc, 3))
-    # Filter 0: 9-axis; filter 1: game rotation (no magnetometer). Both start
-    # from the TRIAD attitude of the first accelerometer and magnetometer samples.
-    q = np.zeros((2, 4))
-    _triad(first_acc, first_mag, q[0])
-    q[1] = q[0]
-    b = np.zeros((2, 3))
-    P = np.zeros((2, 6, 6))
+    # Filter 0 (q0, b0, P0): 9-axis; filter 1 (q1, b1, P1): game rotation (no
+    # magnetometer). Both start from the TRIAD attitude of the first
+    # accelerometer and magnetometer samples. Separate arrays, not rows of one:
+    # a view per event costs more than the arithmetic.
+    q0 = np.zeros(4)
+    _triad(first_acc, first_mag, q0)
+    q1 = q0.copy()
+    b0 = np.zeros(3)
+    b1 = np.zeros(3)
+    P0 = np.zeros((6, 6))
+    P1 = np.zeros((6, 6))
     ws = _workspace()
     rmat = np.empty((3, 3))
+    v = np.empty(3)
     zp = np.empty(3)
-    up_b = np.empty(3)
     up_w = np.array([0.0, 0.0, 1.0])
     north_w = np.array([0.0, 1.0, 0.0])
     last_gyro_t = np.nan
-    gi, ai = 0, 0
-    for i in range(len(t)):
-        k = kind[i]
-        v = data[i]
-        if k == _GYRO:
-            if not np.isnan(last_gyro_t) and t[i] > last_gyro_t:
-                dt = t[i] - last_gyro_t
-                for f in range(2):
-                    _predict(q[f], b[f], P[f], v, dt, gyro_var, bias_var, ws)
-            last_gyro_t = t[i]
-            rot[gi] = q[0]
-            game[gi] = q[1]
-            bias[gi] = b[0]
+    gi, ai, mi = 0, 0, 0
+    while gi < n_gyro or ai < n_acc or mi < n_mag:
+        # The next sample of the three time-ordered streams.
+        if (
+            gi < n_gyro
+            and (ai == n_acc or _before(t_gyro[gi], t_acc[ai]))
+            and (mi == n_mag or _before(t_gyro[gi], t_mag[mi]))
+        ):
+            for j in range(3):
+                v[j] = gyro[gi, j]
+            t = t_gyro[gi]
+            if not np.isnan(last_gyro_t) and t > last_gyro_t:
+                dt = t - last_gyro_t
+                _predict(q0, b0, P0, v, dt, gyro_var, bias_var, ws)
+                _predict(q1, b1, P1, v, dt, gyro_var, bias_var, ws)
+            last_gyro_t = t
+            for j in range(4):
+                rot[gi, j] = q0[j]
+                game[gi, j] = q1[j]
+            for j in range(3):
+                bias[gi, j] = b0[j]
             gi += 1
-        elif k == _ACC:
+        elif ai < n_acc and (mi == n_mag or _before(t_acc[ai], t_mag[mi])):
+            for j in range(3):
+                v[j] = acc[ai, j]
             na = np.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
             if na > 0.1 * _NOMINAL_GRAVITY:  # no gravity direction in free fall
                 sigma = acc_std * np.exp(np.sqrt(abs(na - _NOMINAL_GRAVITY))) / na
                 for j in range(3):
                     zp[j] = v[j] / na
-                _update(q[0], b[0], P[0], zp, up_w, sigma, True, ws)
-                _update(q[1], b[1], P[1], zp, up_w, sigma, False, ws)
+                _rotmat(q0, rmat)
+                _update(q0, b0, P0, rmat, zp, up_w, sigma, True, ws)
+                _rotmat(q1, rmat)
+                _update(q1, b1, P1, rmat, zp, up_w, sigma, False, ws)
                 # Game rotation: hold yaw's covariance with a zero-innovation
                 # north pseudo-measurement, as AOSP does without a magnetometer.
-                _rotmat(q[1], rmat)
+                _rotmat(q1, rmat)
                 for j in range(3):
                     zp[j] = rmat[1, j]
-                _update(q[1], b[1], P[1], zp, north_w, mag_std, False, ws)
-            _rotmat(q[1], rmat)
+                _update(q1, b1, P1, rmat, zp, north_w, mag_std, False, ws)
+            _rotmat(q1, rmat)
             for j in range(3):
                 grav[ai, j] = rmat[2, j] * g_out
             ai += 1
         else:  # magnetometer
+            for j in range(3):
+                v[j] = mag[mi, j]
+            mi += 1
             b2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2]
             if min_b2 <= b2 <= max_b2:  # reject disturbed or degenerate fields
-                _rotmat(q[0], rmat)
-                for j in range(3):
-                    up_b[j] = rmat[2, j]  # world up seen in the body frame
+                _rotmat(q0, rmat)
+                ux, uy, uz = rmat[2, 0], rmat[2, 1], rmat[2, 2]  # world up in the body frame
                 # east = v × up, north = up × east (no temporaries in the event loop)
-                ex = v[1] * up_b[2] - v[2] * up_b[1]
-                ey = v[2] * up_b[0] - v[0] * up_b[2]
-                ez = v[0] * up_b[1] - v[1] * up_b[0]
+                ex = v[1] * uz - v[2] * uy
+                ey = v[2] * ux - v[0] * uz
+                ez = v[0] * uy - v[1] * ux
                 if ex * ex + ey * ey + ez * ez >= 1e-6:
-                    zp[0] = up_b[1] * ez - up_b[2] * ey
-                    zp[1] = up_b[2] * ex - up_b[0] * ez
-                    zp[2] = up_b[0] * ey - up_b[1] * ex
+                    zp[0] = uy * ez - uz * ey
+                    zp[1] = uz * ex - ux * ez
+                    zp[2] = ux * ey - uy * ex
                     nn = np.sqrt(zp[0] * zp[0] + zp[1] * zp[1] + zp[2] * zp[2])
                     for j in range(3):
                         zp[j] /= nn
-                    _update(q[0], b[0], P[0], zp, north_w, mag_std / nn, True, ws)
+                    _update(q0, b0, P0, rmat, zp, north_w, mag_std / nn, True, ws)
     return rot, game, bias, grav

@@ -107,6 +107,23 @@ def test_outputs_follow_each_streams_own_timestamps():
     )
 
 
+def test_streams_out_of_time_order_give_the_same_samples_in_their_own_order():
+    t = np.arange(0, 3, 0.01)
+    rots = Rotation.from_rotvec(np.outer(t, [0.1, 0.2, 0.3]))
+    acc, mag = _streams(rots)
+    gyro = np.tile([0.1, 0.2, 0.3], (len(t), 1))
+    t_mag = t + 0.004  # interleaved with, and ties between, the other streams
+    ref = fuse(t, acc, t, gyro, t_mag, mag)
+    rng = np.random.default_rng(0)
+    pa, pg, pm = (rng.permutation(len(t)) for _ in range(3))
+    f = fuse(t[pa], acc[pa], t[pg], gyro[pg], t_mag[pm], mag[pm])
+    np.testing.assert_array_equal(f.rotation, ref.rotation[pg])
+    np.testing.assert_array_equal(f.game_rotation, ref.game_rotation[pg])
+    np.testing.assert_array_equal(f.gyro_bias, ref.gyro_bias[pg])
+    np.testing.assert_array_equal(f.gravity, ref.gravity[pa])
+    np.testing.assert_array_equal(f.linear_accel, ref.linear_accel[pa])
+
+
 def test_missing_stream_is_a_clear_error():
     t = np.arange(0, 1, 0.01)
     with pytest.raises(ValueError, match="the mag stream is empty"):
