@@ -194,22 +194,108 @@ def dipole_field(
 _CHUNK = 32
 # ... and no wider than this fraction of the band's reach.
 _CHUNK_REACH = 0.3
+# Lanes of the compiled loops over a chunk's points (4 doubles in AVX2).
+_LANES = 4
+# Margin (m) by which every point must be past a step's end for the step to
+# count as constant: far above the rounding of the distances.
+_FLAT_MARGIN = 1e-6
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _band_weight(r, a_in, k_in, a_out, k_out):  # pragma: no cover - compiled
+def _step(x):  # pragma: no cover - compiled
+    """The C⁴ smootherstep 126x⁵ − 420x⁶ + 540x⁷ − 315x⁸ + 70x⁹ of x ∈ [0, 1]."""
+    return x * x * x * x * x * (126.0 + x * (-420.0 + x * (540.0 + x * (-315.0 + 70.0 * x))))
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _band_weight(r, a_in, k_in, a_out, k_out, inner, outer):  # pragma: no cover - compiled
     """A band's weight at distance r and its two ramp coordinates (xi, xo).
 
-    The weight is smootherstep up from a_in minus smootherstep up from a_out,
-    each the C⁴ polynomial 126x⁵ − 420x⁶ + 540x⁷ − 315x⁸ + 70x⁹ of its ramp
-    coordinate x ∈ [0, 1]; the coordinates give the weight's derivative.
+    The weight is smootherstep up from a_in minus smootherstep up from a_out
+    (:func:`_step` of each ramp coordinate x ∈ [0, 1]); the coordinates give
+    the weight's derivative.
+
+    ``inner`` / ``outer`` False (constants at the call site, so the dead
+    terms compile away) say that the inner step is known to be 1 / the outer
+    one 0 at r. The result is then exactly the full form's: the step at
+    x = 1 evaluates to exactly 1.0 (every partial sum is an integer), at
+    x = 0 to exactly 0.0, and subtracting 0.0 changes no value.
     """
-    xi = min(max((r - a_in) * k_in, 0.0), 1.0)
-    xo = min(max((r - a_out) * k_out, 0.0), 1.0)
-    w = xi * xi * xi * xi * xi * (
-        126.0 + xi * (-420.0 + xi * (540.0 + xi * (-315.0 + 70.0 * xi)))
-    ) - xo * xo * xo * xo * xo * (126.0 + xo * (-420.0 + xo * (540.0 + xo * (-315.0 + 70.0 * xo))))
+    xi, w = 1.0, 1.0
+    if inner:
+        xi = min(max((r - a_in) * k_in, 0.0), 1.0)
+        w = _step(xi)
+    xo = 0.0
+    if outer:
+        xo = min(max((r - a_out) * k_out, 0.0), 1.0)
+        w = w - _step(xo)
     return w, xi, xo
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _band_slope(xi, xo, k_in, k_out, inner, outer):  # pragma: no cover - compiled
+    """(dw/dr)·r_c/630 from :func:`_band_weight`'s coordinates (dead terms left out as there)."""
+    ui, uo = xi * (1.0 - xi), xo * (1.0 - xo)
+    d = ui * ui * ui * ui * k_in if inner else 0.0
+    if outer:
+        d = d - uo * uo * uo * uo * k_out
+    return d
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _add_pairs(
+    acc, p, m_pts, pos, mom, j, ramp, value, grad, inner, outer
+):  # pragma: no cover - compiled
+    """Add dipole j's weighted field (``value``) and gradient (``grad``) at
+    the chunk's points ``p[:, :m_pts]`` to ``acc`` (see :func:`_band_field`);
+    ``ramp`` = (a_in, k_in, a_out, k_out, r_min)."""
+    a_in, k_in, a_out, k_out, r_min = ramp
+    qx, qy, qz = pos[j, 0], pos[j, 1], pos[j, 2]
+    mx, my, mz = mom[j, 0], mom[j, 1], mom[j, 2]
+    if value:
+        for i in range(m_pts):
+            rx, ry, rz = p[0, i] - qx, p[1, i] - qy, p[2, i] - qz
+            r = math.sqrt(rx * rx + ry * ry + rz * rz)
+            w, _, _ = _band_weight(r, a_in, k_in, a_out, k_out, inner, outer)
+            rc = max(r, r_min)
+            inv_r2 = 1.0 / (rc * rc)
+            inv_r3 = inv_r2 / rc
+            mr = mx * rx + my * ry + mz * rz
+            s = 3.0 * mr * inv_r2
+            acc[0, i] += w * (s * rx - mx) * inv_r3
+            acc[1, i] += w * (s * ry - my) * inv_r3
+            acc[2, i] += w * (s * rz - mz) * inv_r3
+    if grad:
+        # The gradient in a loop of its own, so that neither loop branches.
+        for i in range(m_pts):
+            rx, ry, rz = p[0, i] - qx, p[1, i] - qy, p[2, i] - qz
+            r = math.sqrt(rx * rx + ry * ry + rz * rz)
+            w, xi, xo = _band_weight(r, a_in, k_in, a_out, k_out, inner, outer)
+            rc = max(r, r_min)
+            inv_r2 = 1.0 / (rc * rc)
+            inv_r3 = inv_r2 / rc
+            mr = mx * rx + my * ry + mz * rz
+            s = 3.0 * mr * inv_r2
+            # ∂(w·B_i)/∂r_k = w·(3[m_k r_i + m_i r_k + (m·r)δ_ik]/r⁵ − 15(m·r) r_i r_k/r⁷)
+            # + w'(r)·B_i·r_k/r = r_i·u_k + z_i·r_k + D·δ_ik with u = 3w·m/r⁵,
+            # z = u + w'·B/r − 15w(m·r)·r/r⁷ and D = 3w(m·r)/r⁵.
+            dw = 630.0 * _band_slope(xi, xo, k_in, k_out, inner, outer) / rc
+            a5 = 3.0 * w * inv_r3 * inv_r2
+            c7 = 5.0 * a5 * mr * inv_r2
+            dg = a5 * mr
+            ux, uy, uz = a5 * mx, a5 * my, a5 * mz
+            zx = ux + dw * (s * rx - mx) * inv_r3 - c7 * rx
+            zy = uy + dw * (s * ry - my) * inv_r3 - c7 * ry
+            zz = uz + dw * (s * rz - mz) * inv_r3 - c7 * rz
+            acc[3, i] += rx * ux + zx * rx + dg
+            acc[4, i] += rx * uy + zx * ry
+            acc[5, i] += rx * uz + zx * rz
+            acc[6, i] += ry * ux + zy * rx
+            acc[7, i] += ry * uy + zy * ry + dg
+            acc[8, i] += ry * uz + zy * rz
+            acc[9, i] += rz * ux + zz * rx
+            acc[10, i] += rz * uy + zz * ry
+            acc[11, i] += rz * uz + zz * rz + dg
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -234,20 +320,24 @@ def _band_field(
     candidate order and nothing is contracted or reassociated, so the result
     does not depend on the vector width.
 
-    When ``jac`` has a row per point, the gradient ∂(w·B_i)/∂p_k is added to
-    ``jac[:, i, k]`` too (meant for bands that start beyond the clamp).
+    The field is added to ``out`` only when it has a row per point; when
+    ``jac`` has one, the gradient ∂(w·B_i)/∂p_k is added to ``jac[:, i, k]``
+    (meant for bands that start beyond the clamp).
     """
     x0, y0, cell = grid[0], grid[1], grid[2]
     ncx, ncy = int(grid[3]), int(grid[4])
     a_in, b_in, a_out, b_out = band[0], band[1], band[2], band[3]
     k_in, k_out = 1.0 / (b_in - a_in), 1.0 / (b_out - a_out)
+    ramp = (a_in, k_in, a_out, k_out, r_min)
     bounded = b_out < 1e100
+    value = out.shape[0] == points.shape[0]
     grad = jac.shape[0] == points.shape[0]
     n = points.shape[0]
     # A chunk also ends where its points spread wider than a fraction of the
     # band's reach, so that its candidates stay close to each point's own.
     max_rad = _CHUNK_REACH * b_out if bounded else np.inf
     cand = np.empty(order.shape[0], np.intp)
+    ramps = np.empty(order.shape[0], np.int8)
     p = np.empty((3, _CHUNK))
     acc = np.empty((12, _CHUNK))
     lo = np.empty(3)
@@ -283,6 +373,14 @@ def _band_field(
             iy1 = min(math.floor((cy + b_out + rad - y0) / cell), ncy - 1)
         near = a_in - rad
         near2 = near * near if near > 0.0 else -1.0
+        # A step that is constant at all the chunk's points (the inner one 1
+        # beyond b_in, the outer one 0 within a_out; the margin covers the
+        # rounding of these tests) is left out of a dipole's loops. (A huge
+        # a_out squares to inf: the outer step is 0 for every dipole.)
+        flat_in = b_in + rad + _FLAT_MARGIN
+        flat_in2 = flat_in * flat_in if flat_in > 0.0 else -1.0
+        flat_out = a_out - rad - _FLAT_MARGIN
+        flat_out2 = flat_out * flat_out if flat_out > 0.0 else -1.0
         nc = 0
         for iy in range(iy0, iy1 + 1):
             if ix0 > ix1:
@@ -294,60 +392,33 @@ def _band_field(
                 if (bounded and d2 >= far2) or d2 <= near2:
                     continue
                 cand[nc] = j
+                ramps[nc] = (d2 < flat_in2) + 2 * (d2 > flat_out2)
                 nc += 1
-        acc[:, :m_pts] = 0.0
+        # The loops run over whole vectors of lanes: the padding lanes repeat
+        # the last point and are dropped, so no point is left to the slower
+        # scalar remainder of a vectorised loop.
+        m_vec = -(-m_pts // _LANES) * _LANES
+        for i in range(m_pts, m_vec):
+            for d in range(3):
+                p[d, i] = p[d, m_pts - 1]
+        acc[:, :m_vec] = 0.0
         for c in range(nc):
             j = cand[c]
-            qx, qy, qz = pos[j, 0], pos[j, 1], pos[j, 2]
-            mx, my, mz = mom[j, 0], mom[j, 1], mom[j, 2]
-            for i in range(m_pts):
-                rx, ry, rz = p[0, i] - qx, p[1, i] - qy, p[2, i] - qz
-                r = math.sqrt(rx * rx + ry * ry + rz * rz)
-                w, _, _ = _band_weight(r, a_in, k_in, a_out, k_out)
-                rc = max(r, r_min)
-                inv_r2 = 1.0 / (rc * rc)
-                inv_r3 = inv_r2 / rc
-                mr = mx * rx + my * ry + mz * rz
-                s = 3.0 * mr * inv_r2
-                acc[0, i] += w * (s * rx - mx) * inv_r3
-                acc[1, i] += w * (s * ry - my) * inv_r3
-                acc[2, i] += w * (s * rz - mz) * inv_r3
-            if not grad:
-                continue
-            # The gradient in a loop of its own, so that neither loop branches.
-            for i in range(m_pts):
-                rx, ry, rz = p[0, i] - qx, p[1, i] - qy, p[2, i] - qz
-                r = math.sqrt(rx * rx + ry * ry + rz * rz)
-                w, xi, xo = _band_weight(r, a_in, k_in, a_out, k_out)
-                rc = max(r, r_min)
-                inv_r2 = 1.0 / (rc * rc)
-                inv_r3 = inv_r2 / rc
-                mr = mx * rx + my * ry + mz * rz
-                s = 3.0 * mr * inv_r2
-                # ∂(w·B_i)/∂r_k = w·(3[m_k r_i + m_i r_k + (m·r)δ_ik]/r⁵ − 15(m·r) r_i r_k/r⁷)
-                # + w'(r)·B_i·r_k/r = r_i·u_k + z_i·r_k + D·δ_ik with u = 3w·m/r⁵,
-                # z = u + w'·B/r − 15w(m·r)·r/r⁷ and D = 3w(m·r)/r⁵.
-                ui, uo = xi * (1.0 - xi), xo * (1.0 - xo)
-                dw = 630.0 * (ui * ui * ui * ui * k_in - uo * uo * uo * uo * k_out) / rc
-                a5 = 3.0 * w * inv_r3 * inv_r2
-                c7 = 5.0 * a5 * mr * inv_r2
-                dg = a5 * mr
-                ux, uy, uz = a5 * mx, a5 * my, a5 * mz
-                zx = ux + dw * (s * rx - mx) * inv_r3 - c7 * rx
-                zy = uy + dw * (s * ry - my) * inv_r3 - c7 * ry
-                zz = uz + dw * (s * rz - mz) * inv_r3 - c7 * rz
-                acc[3, i] += rx * ux + zx * rx + dg
-                acc[4, i] += rx * uy + zx * ry
-                acc[5, i] += rx * uz + zx * rz
-                acc[6, i] += ry * ux + zy * rx
-                acc[7, i] += ry * uy + zy * ry + dg
-                acc[8, i] += ry * uz + zy * rz
-                acc[9, i] += rz * ux + zz * rx
-                acc[10, i] += rz * uy + zz * ry
-                acc[11, i] += rz * uz + zz * rz + dg
+            # One copy of the loops for each pair of steps that ramp over the
+            # chunk (bit 0 the inner, bit 1 the outer), each compiled without
+            # the terms of a constant step.
+            if ramps[c] == 3:
+                _add_pairs(acc, p, m_vec, pos, mom, j, ramp, value, grad, True, True)
+            elif ramps[c] == 2:
+                _add_pairs(acc, p, m_vec, pos, mom, j, ramp, value, grad, False, True)
+            elif ramps[c] == 1:
+                _add_pairs(acc, p, m_vec, pos, mom, j, ramp, value, grad, True, False)
+            else:
+                _add_pairs(acc, p, m_vec, pos, mom, j, ramp, value, grad, False, False)
         for i in range(m_pts):
-            for d in range(3):
-                out[c0 + i, d] += acc[d, i]
+            if value:
+                for d in range(3):
+                    out[c0 + i, d] += acc[d, i]
             if grad:
                 for a in range(3):
                     for b in range(3):
@@ -545,24 +616,41 @@ class MagneticModel:
             )
             if len(t_grad) < 4:
                 t_grad = t_knot
-            jac = np.zeros((len(t_grad), 3, 3))
-            self._band(np.ascontiguousarray(position(t_grad), dtype=float), inner, outer, jac)
+            jac = self._band_gradient(
+                np.ascontiguousarray(position(t_grad), dtype=float), inner, outer
+            )
             grad = CubicSpline(t_grad, jac.reshape(-1, 9), axis=0)(t).reshape(-1, 3, 3)
             out += np.einsum("nij,nj->ni", grad, points - smooth[:, 3:])
         return self.earth_field_uT + out
 
     def _band(
+        self, points: NDArray[np.float64], inner: tuple[float, float], outer: tuple[float, float]
+    ) -> NDArray[np.float64]:
+        """(N, 3) field in µT at points of the dipoles weighted S_inner − S_outer
+        (see :func:`_band_field`)."""
+        part = np.zeros_like(points)
+        self._band_kernel(points, inner, outer, part, np.zeros((0, 3, 3)))
+        part *= MU0_OVER_4PI * _T_TO_UT
+        return part
+
+    def _band_gradient(
+        self, points: NDArray[np.float64], inner: tuple[float, float], outer: tuple[float, float]
+    ) -> NDArray[np.float64]:
+        """(N, 3, 3) gradient in µT/m of :meth:`_band`, [n, i, k] = ∂B_i/∂p_k at point n."""
+        jac = np.zeros((len(points), 3, 3))
+        self._band_kernel(points, inner, outer, np.zeros((0, 3)), jac)
+        jac *= MU0_OVER_4PI * _T_TO_UT
+        return jac
+
+    def _band_kernel(
         self,
         points: NDArray[np.float64],
         inner: tuple[float, float],
         outer: tuple[float, float],
-        jac: NDArray[np.float64] | None = None,
-    ) -> NDArray[np.float64]:
-        """(N, 3) field in µT at points of the dipoles weighted S_inner − S_outer
-        (see :func:`_band_field`); adds its gradient (µT/m) to ``jac``."""
+        out: NDArray[np.float64],
+        jac: NDArray[np.float64],
+    ) -> None:
         index = self._path_index
-        part = np.zeros_like(points)
-        grad = np.zeros((len(points) if jac is not None else 0, 3, 3))
         _band_field(
             points,
             self.positions,
@@ -572,13 +660,9 @@ class MagneticModel:
             index.grid,
             np.array([*inner, *outer], dtype=float),
             self.min_distance,
-            part,
-            grad,
+            out,
+            jac,
         )
-        scale = MU0_OVER_4PI * _T_TO_UT
-        if jac is not None:
-            jac += grad * scale
-        return part * scale
 
     @functools.cached_property
     def _path_index(self) -> _DipoleIndex:
