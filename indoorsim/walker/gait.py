@@ -1082,13 +1082,10 @@ class _Bout:
         kappa = path.max_curvature(grid, 0.5 * float(step_length_m(v_cruise, height)))
         v_lim = v_cruise * np.interp(grid, *speed_factor)
         v_lim = np.minimum(v_lim, omega_lim / np.maximum(kappa, 1e-9))
-        v_lim[[0, -1]] = 0.0
-        w, x = v_lim**2, 2.0 * params.max_accel_mps2 * (grid - s_a)
-        w = np.minimum(w, x + np.minimum.accumulate(w - x))
-        w = np.minimum(w, np.minimum.accumulate((w + x)[::-1])[::-1] - x)
-        v = np.sqrt(np.maximum(w, 0.0))
+        v, dtau = np.empty(len(grid)), np.empty(len(grid) - 1)
+        _speed_profile(grid, v_lim, s_a, 2.0 * params.max_accel_mps2, v, dtau)
         # Time along the profile (exact for constant acceleration between knots).
-        tau = _cumsum0(2.0 * np.diff(grid) / np.maximum(v[1:] + v[:-1], 1e-12))
+        tau = _cumsum0(dtau)
 
         # Nominal heel strikes: integer crossings of the cadence phase, with the
         # phase stretched so that the last step ends exactly at the bout's end.
@@ -1144,6 +1141,38 @@ class _Bout:
             distance=distance,
             phase=_knot_spline(t_knots, n0 + np.arange(count + 1.0), natural=True),
         )
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _speed_profile(grid, v_lim, s_a, two_a, v, dtau):  # pragma: no cover - compiled
+    """The bout's speed ``v`` on ``grid`` under the cap ``v_lim``, 0 at both ends, and
+    the time ``dtau`` from each grid point to the next.
+
+    The acceleration passes are closed forms of the usual forward/backward
+    sweeps, v²(s) ≤ v²(s') + 2a|s − s'|, with x = 2a·(s − s_a):
+    w = min(w, x + running min of (w − x)), then the same backwards with
+    w + x; v = √max(w, 0), and dtau = 2·Δs / max(v + v_next, 1e-12) (exact
+    for constant acceleration between grid points). One pass each, with the
+    same operations as the array expressions they replace.
+    """
+    n = len(grid)
+    x = np.empty(n)
+    w = np.empty(n)
+    for i in range(n):
+        x[i] = two_a * (grid[i] - s_a)
+        w[i] = 0.0 if i == 0 or i == n - 1 else v_lim[i] * v_lim[i]
+    low = np.inf
+    for i in range(n):
+        low = min(low, w[i] - x[i])
+        w[i] = min(w[i], x[i] + low)
+    low = np.inf
+    for i in range(n - 1, -1, -1):
+        low = min(low, w[i] + x[i])
+        w[i] = min(w[i], low - x[i])
+    for i in range(n):
+        v[i] = math.sqrt(max(w[i], 0.0))
+    for i in range(n - 1):
+        dtau[i] = 2.0 * (grid[i + 1] - grid[i]) / max(v[i + 1] + v[i], 1e-12)
 
 
 def _knot_spline(x: NDArray[np.float64], y: NDArray[np.float64], natural: bool) -> PPoly:
@@ -1221,30 +1250,34 @@ class _Timeline:
         self.bouts = bouts
         self.dwells = dwells
 
-    def _spans(self, t: NDArray[np.float64]) -> list[tuple[_Bout, int, int]]:
-        return [
-            (b, int(np.searchsorted(t, b.t0, "left")), int(np.searchsorted(t, b.t_end, "right")))
-            for b in self.bouts
-        ]
+    def _spans(self, t: NDArray[np.float64]) -> list[tuple[_Bout, int, int, int]]:
+        """Each bout, the samples it covers (``i0:i1``) and where the next one
+        begins (the samples ``i1:i2`` wait for it, holding the bout's end)."""
+        t0 = np.array([b.t0 for b in self.bouts])
+        t_end = np.array([b.t_end for b in self.bouts])
+        i0 = np.searchsorted(t, t0, "left").tolist()
+        i1 = np.searchsorted(t, t_end, "right").tolist()
+        i2 = [*i0[1:], len(t)]
+        return list(zip(self.bouts, i0, i1, i2, strict=True))
 
     def distance(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
         out = np.zeros(len(t))
-        for b, i0, i1 in self._spans(t):
+        for b, i0, i1, i2 in self._spans(t):
             out[i0:i1] = b.distance(t[i0:i1])
-            out[i1:] = b.s_knots[-1]
+            out[i1:i2] = b.s_knots[-1]
         return out
 
     def phase(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
         out = np.zeros(len(t))
-        for b, i0, i1 in self._spans(t):
+        for b, i0, i1, i2 in self._spans(t):
             out[i0:i1] = b.phase(t[i0:i1])
-            out[i1:] = b.n0 + len(b.lengths)
+            out[i1:i2] = b.n0 + len(b.lengths)
         return out
 
     def envelope(self, t: NDArray[np.float64]) -> NDArray[np.float64]:
         """1 while walking, fading in over a bout's first step and out over its last (C²)."""
         out = np.zeros(len(t))
-        for b, i0, i1 in self._spans(t):
+        for b, i0, i1, _ in self._spans(t):
             tt = t[i0:i1]
             first, last = b.t_knots[1] - b.t_knots[0], b.t_knots[-1] - b.t_knots[-2]
             out[i0:i1] = smootherstep((tt - b.t0) / first) * smootherstep((b.t_end - tt) / last)
@@ -1252,7 +1285,7 @@ class _Timeline:
 
     def moving(self, t: NDArray[np.float64]) -> NDArray[np.bool_]:
         out = np.zeros(len(t), dtype=bool)
-        for _, i0, i1 in self._spans(t):
+        for _, i0, i1, _ in self._spans(t):
             out[i0:i1] = True
         return out
 
