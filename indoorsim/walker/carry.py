@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import itertools
 import math
 from abc import ABC, abstractmethod
 from collections.abc import Mapping, Sequence
@@ -268,12 +269,18 @@ def carry(
         which[i0 : i0 + k] = np.where(w < 0.5, j - 1, j)
     # Sized by the longest name in use, as a string array built from the names would be.
     used = np.flatnonzero(np.bincount(which, minlength=len(entries)))
-    names = np.array([entries[j][1].name for j in used])
+    names = np.empty(len(entries), dtype=np.array([entries[j][1].name for j in used]).dtype)
+    names[used] = [entries[j][1].name for j in used]
+    # ``which`` is a few long runs: filling each costs less than indexing per sample.
+    cuts = [0, *(np.flatnonzero(which[1:] != which[:-1]) + 1).tolist(), n]
+    mode = np.empty(n, dtype=names.dtype)
+    for a, b in itertools.pairwise(cuts):
+        mode[a:b] = names[which[a]]
     return PhoneTrajectory(
         t=t,
         pos=pos,
         quat=_sign_continuous(quat),
-        mode=names[np.searchsorted(used, which)],
+        mode=mode,
         light_exposure=np.clip(light, 0.0, 1.0),
     )
 
@@ -325,11 +332,30 @@ def _parse_schedule(
 def _put_scalar_first(out: NDArray[np.float64], rot: Rotation) -> None:
     """Write the rotations' quaternions into ``out`` (K, 4), scalar first.
 
-    ``as_quat(scalar_first=True)`` would build an intermediate rolled copy.
+    ``as_quat(scalar_first=True)`` would build an intermediate rolled copy
+    (np.roll along an axis of four is slow), and column-by-column copies
+    are strided: one compiled pass instead.
     """
-    q = rot.as_quat()
-    out[:, 0] = q[:, 3]
-    out[:, 1:] = q[:, :3]
+    _move_scalar(rot.as_quat(), out, False)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _move_scalar(q, out, to_last):  # pragma: no cover - compiled
+    """out[k] = q[k] with the scalar moved from first to last (``to_last``) or back."""
+    for k in range(q.shape[0]):
+        a, b, c, d = q[k, 0], q[k, 1], q[k, 2], q[k, 3]
+        if to_last:
+            out[k, 0], out[k, 1], out[k, 2], out[k, 3] = b, c, d, a
+        else:
+            out[k, 0], out[k, 1], out[k, 2], out[k, 3] = d, a, b, c
+
+
+def _swap_scalar(q: NDArray[np.float64], to_last: bool) -> NDArray[np.float64]:
+    """Quaternion(s) q (4,) or (K, 4) with the scalar moved to the end (``to_last``) or front."""
+    q2 = np.ascontiguousarray(np.atleast_2d(q))
+    out = np.empty_like(q2)
+    _move_scalar(q2, out, to_last)
+    return out.reshape(np.shape(q))
 
 
 def _slerp(a: Rotation, b: Rotation, w: NDArray[np.float64]) -> Rotation:
@@ -370,12 +396,23 @@ def _sign_continuous(q: NDArray[np.float64]) -> NDArray[np.float64]:
 
     Works in place on ``q`` and returns it.
     """
-    flips = np.flatnonzero(np.r_[q[0, 0] < 0, np.einsum("ij,ij->i", q[1:], q[:-1]) < 0])
-    # Only a few samples jump (at changes of mode): negate each stretch
-    # between an odd-numbered jump and the next.
-    for start, stop in zip(flips[::2].tolist(), [*flips[1::2].tolist(), len(q)], strict=False):
-        q[start:stop] *= -1.0
+    _sign_continuous_kernel(q)
     return q
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _sign_continuous_kernel(q):  # pragma: no cover - compiled
+    """Negate q[k] wherever an odd number of sign jumps (q[0] with w < 0, then each
+    sample whose dot product with the one before, as given, is negative) lies up to k."""
+    flip = False
+    pw, px, py, pz = 1.0, 0.0, 0.0, 0.0  # q[0] is compared with the identity: its w ≥ 0
+    for k in range(q.shape[0]):
+        w, x, y, z = q[k, 0], q[k, 1], q[k, 2], q[k, 3]
+        if (w * pw + x * px + y * py + z * pz < 0) if k > 0 else (w < 0):
+            flip = not flip
+        pw, px, py, pz = w, x, y, z
+        if flip:
+            q[k, 0], q[k, 1], q[k, 2], q[k, 3] = -w, -x, -y, -z
 
 
 # ---------------------------------------------------------------------- shared pieces
@@ -416,8 +453,12 @@ def _compose(*rotations: Quat) -> Quat:
 
 
 def _rotation(q: Quat) -> Rotation:
-    """The scipy rotation(s) of quaternion(s) q."""
-    return Rotation.from_quat(q, scalar_first=True)
+    """The scipy rotation(s) of quaternion(s) q.
+
+    scipy's ``scalar_first=True`` rolls the array with np.roll, which is slow
+    along an axis of four: the scalar is moved in one compiled pass instead.
+    """
+    return Rotation.from_quat(_swap_scalar(q, True))
 
 
 def _about(axis: str, angle: float | NDArray[np.float64]) -> Quat:
@@ -431,7 +472,7 @@ def _about(axis: str, angle: float | NDArray[np.float64]) -> Quat:
 
 def _from_rotvec(v: NDArray[np.float64]) -> Quat:
     """Rotation(s) by rotation vector(s) v."""
-    return Rotation.from_rotvec(v).as_quat(scalar_first=True)
+    return _swap_scalar(Rotation.from_rotvec(v).as_quat(), False)
 
 
 def _body_frame(yaw: NDArray[np.float64]) -> Quat:
@@ -483,7 +524,9 @@ def _tremor(n: int, rate_hz: float, rms: float, rng: np.random.Generator) -> NDA
     sos, _ = _butter((8.0, 12.0), rate_hz)
     x = sosfilt(sos, rng.standard_normal((n, 3)), axis=0)
     sd = x.std()
-    return x * (rms / sd) if sd > 0 else x
+    if sd > 0:
+        x *= rms / sd
+    return x
 
 
 def _slow_noise(n: int, rate_hz: float, rng: np.random.Generator) -> NDArray[np.float64]:
@@ -508,6 +551,23 @@ def _gaussian_smooth(x: NDArray[np.float64], sigma: float) -> NDArray[np.float64
     if padded is None:
         return gaussian_filter1d(x, sigma)
     return oaconvolve(padded, kernel, mode="valid")
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _pocket_offset(sin_a, cos_a, hip, jolt, out):  # pragma: no cover - compiled
+    """The phone's place in the pelvis frame, the thigh flexed by α (sin_a, cos_a):
+    hip + along·thigh + front·(thigh's forward normal), less the jolt along the thigh.
+
+    One pass over the samples, with the arithmetic (zero components included)
+    of the numpy expression over stacked (K, 3) axis arrays it replaces.
+    """
+    for k in range(out.shape[0]):
+        s, c, j = sin_a[k], cos_a[k], jolt[k]
+        thigh = (s, 0.0, -c)
+        front = (c, 0.0, s)
+        for i in range(3):
+            v = hip[i] + _POCKET_ALONG_M * thigh[i] + _POCKET_FRONT_M * front[i]
+            out[k, i] = v - j * thigh[i]  # the jolt drives the phone up along the thigh
 
 
 def _side(which: str) -> float:
@@ -771,15 +831,12 @@ class Pocketed(CarryMode):
         cyc = 2.0 * np.pi * (body.stride_phase - (0.45 if side < 0 else -0.05))
         alpha = env * (math.radians(self.thigh_mean_deg) + swing * np.cos(cyc))
         roll = env * math.radians(_HIP_ROLL_DEG) * np.sin(cyc) * side
-        sin_a, cos_a, zero = np.sin(alpha), np.cos(alpha), np.zeros_like(alpha)
-        thigh = np.column_stack([sin_a, zero, -cos_a])
-        front = np.column_stack([cos_a, zero, sin_a])
         hip = np.array([0.0, _HIP_HALF_WIDTH * h * side, (_HIP_H - PELVIS_HEIGHT_RATIO) * h])
-        local = hip + _POCKET_ALONG_M * thigh + _POCKET_FRONT_M * front
         same_side = body.steps.foot.to_numpy() == ("R" if side < 0 else "L")
         t_hs = body.steps.t.to_numpy()[same_side]
         jolt = impulse_displacement(body.t, t_hs, rng.uniform(*self.impact_mps2, len(t_hs)))
-        local -= jolt[:, None] * thigh  # the jolt drives the phone up along the thigh
+        local = np.empty((len(alpha), 3))
+        _pocket_offset(np.sin(alpha), np.cos(alpha), hip, jolt, local)
         pos = body.pos + _apply(pelvis, local)
 
         top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)

@@ -347,3 +347,19 @@ def test_compiled_rotation_product_matches_scipy():
             ref.as_matrix(),
             atol=1e-12,
         )
+
+
+def test_compiled_sign_continuity_and_scalar_moves_match_numpy():
+    rng = np.random.default_rng(4)
+    q = Rotation.random(400, random_state=5).as_quat(scalar_first=True)
+    q *= np.where(rng.random(400) < 0.1, -1.0, 1.0)[:, None]  # a few sign jumps
+    # The numpy form the kernel replaced: negate between odd- and even-numbered jumps.
+    flips = np.flatnonzero(np.r_[q[0, 0] < 0, np.einsum("ij,ij->i", q[1:], q[:-1]) < 0])
+    ref = q.copy()
+    for start, stop in zip(flips[::2], [*flips[1::2], len(q)], strict=False):
+        ref[start:stop] *= -1.0
+    assert carry_module._sign_continuous(q.copy()).tobytes() == ref.tobytes()
+    last = carry_module._swap_scalar(q, True)
+    assert last.tobytes() == np.roll(q, -1, axis=1).tobytes()
+    assert carry_module._swap_scalar(last, False).tobytes() == q.tobytes()
+    assert carry_module._swap_scalar(q[3], True).tolist() == np.roll(q[3], -1).tolist()
