@@ -79,7 +79,11 @@ class IdealImu:
 
     def quaternion(self, times: ArrayLike) -> NDArray[np.float64]:
         """(N, 4) world←phone unit quaternions (w, x, y, z) at ``times``."""
-        ts = np.ascontiguousarray(self._clip(times))
+        return self._quaternion_at(self._clip(times))
+
+    def _quaternion_at(self, ts: NDArray[np.float64]) -> NDArray[np.float64]:
+        """:meth:`quaternion` at times already checked and clipped (:meth:`_clip`)."""
+        ts = np.ascontiguousarray(ts)
         out = np.empty((len(ts), 4))
         _slerp(self.t, self._quat, ts, out)
         return out
@@ -93,7 +97,8 @@ class IdealImu:
         ts = self._clip(times)
         acc_w = self._acc(ts)
         acc_w[:, 2] += self.gravity_mps2
-        return self.to_phone_frame(ts, acc_w)
+        # ts is clipped already: straight to the attitude, not through to_phone_frame.
+        return quat_ops.rotate(self._quaternion_at(ts), acc_w, inverse=True)
 
     def angular_rate(self, times: ArrayLike) -> NDArray[np.float64]:
         """(N, 3) ideal gyroscope reading in the phone frame, rad/s."""

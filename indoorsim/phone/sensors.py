@@ -162,21 +162,55 @@ def _samples(ideal: ArrayLike, t: ArrayLike) -> tuple[NDArray[np.float64], NDArr
 
 def _white_noise(
     t: NDArray[np.float64], density: float, rate_hz: float, rng: np.random.Generator
-) -> NDArray[np.float64]:
-    """(K, 3) white noise of density ``density`` with σ_k = density/√Δt_k.
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """White noise of density ``density``: (K, 3) standard normals ξ and (K,) σ_k = density/√Δt_k.
 
-    The first sample's interval is taken as the nominal period 1/``rate_hz``.
+    The noise is σ_k·ξ_k (formed where it is added: :func:`_add_terms`). The
+    first sample's interval is taken as the nominal period 1/``rate_hz``.
     """
     spacing = np.diff(t, prepend=t[0] - 1.0 / rate_hz)
-    return rng.standard_normal((t.size, 3)) * (density / np.sqrt(spacing))[:, None]
+    return rng.standard_normal((t.size, 3)), density / np.sqrt(spacing)
+
+
+# An error term that is off (see _add_terms).
+_NO_ROWS = np.zeros((0, 3))
+_NO_VALUES = np.zeros(0)
+_NO_TICKS = np.zeros(0, np.int64)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _add_terms(y, offset, table, tick, xi, sigma):  # pragma: no cover - compiled
+    """y_k += offset, then += table[tick_k], then += σ_k·ξ_k, in one pass over y.
+
+    A term given as an empty array is off and not added at all (adding 0 would
+    turn a −0 into +0). Each element takes the same additions, in the same
+    order, as the ``y += …`` statements would, without their (K, 3) temporaries.
+    """
+    has_offset, has_table, has_noise = offset.shape[0] > 0, tick.shape[0] > 0, xi.shape[0] > 0
+    for k in range(y.shape[0]):
+        for j in range(3):
+            v = y[k, j]
+            if has_offset:
+                v += offset[j]
+            if has_table:
+                v += table[tick[k], j]
+            if has_noise:
+                v += xi[k, j] * sigma[k]
+            y[k, j] = v
 
 
 def _digitise(y: NDArray[np.float64], limit: float, step: float) -> NDArray[np.float64]:
-    """Q(sat(y)): clip to ±``limit`` (if finite), then round to multiples of ``step`` (if > 0)."""
+    """Q(sat(y)): clip to ±``limit`` (if finite), then round to multiples of ``step`` (if > 0).
+
+    Works in place on ``y`` (the caller's own array) and returns it.
+    """
     if math.isfinite(limit):
         np.clip(y, -limit, limit, out=y)
     if step > 0:
-        y = step * np.round(y / step)
+        # step·round(y/step), in place.
+        np.divide(y, step, out=y)
+        np.round(y, out=y)
+        np.multiply(step, y, out=y)
     return y
 
 
@@ -287,12 +321,15 @@ def apply_inertial(
     distortion = errors.distortion
     if distortion.any():
         y += x @ distortion.T
-    if errors.turn_on_bias.any():
-        y += errors.turn_on_bias
+    table, tick = _NO_ROWS, _NO_TICKS
     if spec.bias_instability > 0 or spec.random_walk > 0:
-        y += _slow_bias(times, spec, gm_rng, rw_rng)
+        table, tick = _slow_bias(times, spec, gm_rng, rw_rng)
+    xi, sigma = _NO_ROWS, _NO_VALUES
     if spec.noise_density > 0:
-        y += _white_noise(times, spec.noise_density, spec.rate_hz, white_rng)
+        xi, sigma = _white_noise(times, spec.noise_density, spec.rate_hz, white_rng)
+    # y += b_on; y += b_GM + b_RW; y += w, in one pass.
+    offset = errors.turn_on_bias if errors.turn_on_bias.any() else _NO_VALUES
+    _add_terms(y, offset, table, tick, xi, sigma)
     return _digitise(y, spec.range, spec.resolution)
 
 
@@ -301,8 +338,11 @@ def _slow_bias(
     spec: InertialSpec,
     gm_rng: np.random.Generator,
     rw_rng: np.random.Generator,
-) -> NDArray[np.float64]:
-    """(K, 3) b_GM(t) + b_RW(t), generated on the hardware clock and read at the nearest tick."""
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """b_GM + b_RW on the hardware clock, (ticks, 3), and each sample's nearest tick, (K,).
+
+    Sample k's slow bias is ``table[tick[k]]``.
+    """
     period = 1.0 / spec.rate_hz
     tick = np.rint((t - t[0]) * spec.rate_hz).astype(np.int64)
     n = int(tick[-1]) + 1
@@ -316,10 +356,11 @@ def _slow_bias(
         xi = gm_rng.standard_normal((n, 3))
         bias += lfilter([drive], [1.0, -phi], xi, axis=0, zi=phi * initial[None, :])[0]
     if spec.random_walk > 0:
-        steps = spec.random_walk * math.sqrt(period) * rw_rng.standard_normal((n, 3))
+        steps = rw_rng.standard_normal((n, 3))
+        steps *= spec.random_walk * math.sqrt(period)
         steps[0] = 0.0
-        bias += np.cumsum(steps, axis=0)
-    return bias[tick]
+        bias += np.cumsum(steps, axis=0, out=steps)
+    return bias, tick
 
 
 # --------------------------------------------------------------------------- magnetometer
@@ -402,11 +443,13 @@ def apply_magnetometer(
         return y
     if errors.soft_iron.any():
         y += x @ errors.soft_iron.T
-    if errors.hard_iron_uT.any():
-        y += errors.hard_iron_uT
+    xi, sigma = _NO_ROWS, _NO_VALUES
     if spec.noise_sigma_uT > 0:
         density = spec.noise_sigma_uT / math.sqrt(spec.rate_hz)
-        y += _white_noise(times, density, spec.rate_hz, white_rng)
+        xi, sigma = _white_noise(times, density, spec.rate_hz, white_rng)
+    # y += h; y += w, in one pass.
+    offset = errors.hard_iron_uT if errors.hard_iron_uT.any() else _NO_VALUES
+    _add_terms(y, offset, _NO_ROWS, _NO_TICKS, xi, sigma)
     return _digitise(y, spec.range_uT, spec.resolution_uT)
 
 

@@ -274,7 +274,9 @@ def _direct(
     element shadows the chunk's bounding disc (:func:`_shadows_disc`), which
     is exact: every receiver in the disc is occluded. Otherwise the occlusion
     test (the costly part) runs per receiver in front of the source and
-    facing it, against the segments that span its direction.
+    facing it, against the segments that span its direction, unless none of
+    those segments comes near the chunk's sight lines (:func:`_off_box`:
+    then nothing is crossed, T = 1, exactly what the test would find).
     """
     d2_min = MIN_DISTANCE_M * MIN_DISTANCE_M
     nb = _DIRECTION_BINS
@@ -307,29 +309,42 @@ def _direct(
                 ):
                     continue
             ax, ay, az = axis[s, 0], axis[s, 1], axis[s, 2]
+            # The plan box of the source and the chunk: a segment whose box lies
+            # off it fails the box rejection of every sight line of the chunk, so
+            # a direction bin holding only such segments is clear (T = 1).
+            bx0, bx1 = min(lo_x, sx), max(hi_x, sx)
+            by0, by1 = min(lo_y, sy), max(hi_y, sy)
+            last_row, clear = -1, True
             for i in range(c0, c1):
                 vx, vy, vz = sx - p[i, 0], sy - p[i, 1], sz - p[i, 2]  # receiver → source
+                # The cosines' signs are their numerators' (d > 0): a receiver
+                # behind the source or facing away is passed over before the
+                # square root and the divisions.
+                along = -(vx * ax + vy * ay + vz * az)
+                facing = n[i, 0] * vx + n[i, 1] * vy + n[i, 2] * vz
+                if along <= 0.0 or facing <= 0.0:
+                    continue
                 d2 = max(vx * vx + vy * vy + vz * vz, d2_min)
                 d = math.sqrt(d2)
-                cos_theta = -(vx * ax + vy * ay + vz * az) / d
-                cos_psi = (n[i, 0] * vx + n[i, 1] * vy + n[i, 2] * vz) / d
+                cos_theta = along / d
+                cos_psi = facing / d
                 if cos_theta <= 0.0 or cos_psi <= 0.0:
-                    continue
-                e = i0[s] * (cos_theta if expo[s] == 1.0 else cos_theta ** expo[s]) * cos_psi / d2
+                    continue  # (an underflow to 0)
+                t = 1.0
                 if sa.shape[0]:
                     row = s * nb + _direction_bin(-vx, -vy)
-                    e *= _transmittance(
-                        p[i, 0],
-                        p[i, 1],
-                        sx,
-                        sy,
-                        sa,
-                        sb,
-                        elem,
-                        transmittance,
-                        items[start[row] : start[row + 1]],
-                    )
-                out[i] += e
+                    near = items[start[row] : start[row + 1]]
+                    if row != last_row:  # receivers of a chunk mostly share one or two bins
+                        last_row = row
+                        clear = _off_box(bx0, bx1, by0, by1, sa, sb, near)
+                    if not clear:
+                        t = _transmittance(
+                            p[i, 0], p[i, 1], sx, sy, sa, sb, elem, transmittance, near
+                        )
+                        if t == 0.0:
+                            continue  # it would add e·0 = 0: skip the power
+                e = i0[s] * (cos_theta if expo[s] == 1.0 else cos_theta ** expo[s]) * cos_psi / d2
+                out[i] += e * t
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
@@ -368,6 +383,20 @@ def _shadows_disc(sx, sy, cx, cy, rho, sa, sb, elem, value, idx):  # pragma: no 
         if side_q >= rho * le and side_s < 0.0:
             return True
     return False
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _off_box(x0, x1, y0, y1, sa, sb, idx):  # pragma: no cover - compiled
+    """True when every segment among ``idx`` has its box strictly off the box
+    [x0, x1] × [y0, y1]: the first test of ``crosses_properly`` then rejects it
+    for any sight line inside that box."""
+    for j in idx:
+        if max(sa[j, 0], sb[j, 0]) < x0 or min(sa[j, 0], sb[j, 0]) > x1:
+            continue
+        if max(sa[j, 1], sb[j, 1]) < y0 or min(sa[j, 1], sb[j, 1]) > y1:
+            continue
+        return False
+    return True
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
