@@ -156,7 +156,8 @@ class Recording:
 
     Construction validates every stream (see :meth:`validate`) and the metadata,
     so a Recording that exists is one that can be saved and loaded back
-    unchanged. The DataFrames are held, not copied.
+    unchanged (the simulator's own recordings are built valid and not checked
+    again, see :meth:`_from_built`). The DataFrames are held, not copied.
 
     Attributes:
         streams: stream name → DataFrame indexed by float64 ``t`` (seconds from
@@ -183,6 +184,21 @@ class Recording:
 
     def __post_init__(self) -> None:
         self.validate()
+
+    @classmethod
+    def _from_built(cls, streams: dict[str, pd.DataFrame], meta: dict[str, Any]) -> Recording:
+        """A Recording of streams indoorsim has just built itself, without :meth:`validate`.
+
+        Only for the simulator's own output (:mod:`indoorsim.simulate`), whose
+        streams are made in the validated layout by construction (float64
+        ``t`` index, the named streams' columns) and whose tests check that it
+        passes :meth:`validate`; checking every sample of a freshly simulated
+        walk again would cost more than building its frames. Data from outside
+        (files, real logs, users) goes through the constructor, which validates.
+        """
+        rec = cls.__new__(cls)
+        rec.streams, rec.meta = streams, meta
+        return rec
 
     accel = _stream_property("accel")
     gyro = _stream_property("gyro")

@@ -233,28 +233,26 @@ def sample_sensors(
     )
 
 
-def _frame(t: NDArray[np.float64], columns: dict[str, NDArray]) -> pd.DataFrame:
-    """A stream of equal-length float columns indexed by ``t``.
+def _frame(t: NDArray[np.float64], values: NDArray[np.float64], columns: list[str]) -> pd.DataFrame:
+    """A stream: the columns of the (rows, columns) float array ``values``, indexed by ``t``.
 
-    The columns are copied once into the (columns, rows) block pandas would
-    consolidate them into, and the frame wraps that block: the same frame as
-    ``pd.DataFrame(columns, index=...)`` without pandas' per-column checks.
+    The frame wraps ``values`` and ``t`` as they are, without a copy: they are
+    this walk's own arrays, fresh from the sensor models and the attitude
+    filter, and nothing else keeps them. (pandas holds ``values`` as one
+    block, its transpose: for a row-major ``values`` a column is a strided
+    view, and the row-major array of the columns, which the windower reads,
+    is ``values`` itself.)
     """
-    block = np.stack(list(columns.values()))
     return pd.DataFrame(
-        block.T,
-        index=pd.Index(np.asarray(t, dtype=float), name="t"),
-        columns=list(columns),
+        values.reshape(len(values), -1),
+        index=pd.Index(np.asarray(t, dtype=float), name="t", copy=False),
+        columns=columns,
         copy=False,
     )
 
 
-def _xyz(t: NDArray[np.float64], v: NDArray[np.float64]) -> pd.DataFrame:
-    return _frame(t, {"x": v[:, 0], "y": v[:, 1], "z": v[:, 2]})
-
-
-def _quat(t: NDArray[np.float64], q: NDArray[np.float64]) -> pd.DataFrame:
-    return _frame(t, {"qw": q[:, 0], "qx": q[:, 1], "qy": q[:, 2], "qz": q[:, 3]})
+_XYZ, _QUAT = ["x", "y", "z"], ["qw", "qx", "qy", "qz"]
+_TRUTH = [*_XYZ, *_QUAT, "body_x", "body_y", "heading"]
 
 
 # How this pandas holds a column of text: its pyarrow-backed "str" (pandas ≥ 3) or object.
@@ -296,36 +294,26 @@ def _recording(
     g = normal_gravity(site.scenario.site.latitude)
     fused = fuse(s.t_accel, s.accel, s.t_gyro, s.gyro, s.t_mag, s.mag, gravity_mps2=g)
     heading = np.angle(np.exp(1j * body.heading))  # wrapped to (−π, π]
-    truth = _frame(
-        phone.t,
-        {
-            "x": phone.pos[:, 0],
-            "y": phone.pos[:, 1],
-            "z": phone.pos[:, 2],
-            "qw": phone.quat[:, 0],
-            "qx": phone.quat[:, 1],
-            "qy": phone.quat[:, 2],
-            "qz": phone.quat[:, 3],
-            "body_x": body.pos[:, 0],
-            "body_y": body.pos[:, 1],
-            "heading": heading,
-        },
-    )
+    # The truth's float columns copied once into the column-major block pandas
+    # would consolidate them into: the labels are computed from it column by
+    # column (np.gradient along the rows of the position columns, say).
+    truth_columns = np.stack([*phone.pos.T, *phone.quat.T, *body.pos[:, :2].T, heading])
+    truth = _frame(phone.t, truth_columns.T, _TRUTH)
     truth["mode"] = _labels(np.asarray(phone.mode))
     steps = body.steps.set_index("t") if "t" in body.steps.columns else body.steps
     steps.index = steps.index.astype(float).rename("t")
     wifi = s.wifi.set_index("t") if "t" in s.wifi.columns else s.wifi
     wifi.index = wifi.index.astype(float).rename("t")
     streams = {
-        "accel": _xyz(s.t_accel, s.accel),
-        "gyro": _xyz(s.t_gyro, s.gyro),
-        "mag": _xyz(s.t_mag, s.mag),
-        "light": _frame(s.t_light, {"lux": s.lux}),
+        "accel": _frame(s.t_accel, s.accel, _XYZ),
+        "gyro": _frame(s.t_gyro, s.gyro, _XYZ),
+        "mag": _frame(s.t_mag, s.mag, _XYZ),
+        "light": _frame(s.t_light, s.lux, ["lux"]),
         "wifi": wifi,
-        "rotation": _quat(fused.t_rotation, fused.rotation),
-        "game_rotation": _quat(fused.t_rotation, fused.game_rotation),
-        "gravity": _xyz(fused.t_gravity, fused.gravity),
-        "linear_accel": _xyz(fused.t_gravity, fused.linear_accel),
+        "rotation": _frame(fused.t_rotation, fused.rotation, _QUAT),
+        "game_rotation": _frame(fused.t_rotation, fused.game_rotation, _QUAT),
+        "gravity": _frame(fused.t_gravity, fused.gravity, _XYZ),
+        "linear_accel": _frame(fused.t_gravity, fused.linear_accel, _XYZ),
         "truth": truth,
         "steps": steps,
     }
@@ -359,7 +347,7 @@ def _recording(
         "package": "indoorsim",
         "version": _version(),
     }
-    return Recording(streams=streams, meta=meta)
+    return Recording._from_built(streams, meta)
 
 
 def _jsonable(v: object) -> object:

@@ -123,8 +123,12 @@ def _held_rows(src, idx, unknown):  # pragma: no cover - compiled
     out = np.empty((idx.shape[0], src.shape[1]))
     for i in range(idx.shape[0]):
         j = idx[i]
-        for k in range(src.shape[1]):
-            out[i, k] = src[j, k] if j >= 0 else unknown[k]
+        if j >= 0:
+            for k in range(src.shape[1]):
+                out[i, k] = src[j, k]
+        else:
+            for k in range(src.shape[1]):
+                out[i, k] = unknown[k]
     return out
 
 
@@ -153,6 +157,9 @@ class Windower:
         aligned: every per-sample key of the observation table but ``t`` and
             ``valid``, as one (n, ...) array over all IMU samples, before it is
             cut into windows (the data-set writer cuts overlapping windows from it).
+            Read-only: the streams on the IMU clock (accel, and as a rule gyro
+            and the fused streams) are views of the recording's columns, not
+            copies. (Observations from :meth:`window` are fresh arrays.)
     """
 
     def __init__(self, recording: Recording, samples: int, bssids: Sequence[str]):
@@ -169,10 +176,11 @@ class Windower:
         self.present = np.array(
             [int(name in streams and len(streams[name]) > 0) for name in PRESENT_ORDER], np.int8
         )
-        # (a copy: the aligned arrays never share memory with the recording)
-        aligned: dict[str, NDArray] = {
-            "accel": columns_array(accel, ["x", "y", "z"]).copy(order="K")
-        }
+        aligned: dict[str, NDArray] = {"accel": columns_array(accel, ["x", "y", "z"])}
+        # The gyroscope and the fused streams run on the IMU clock itself, as a
+        # rule: on strictly increasing times each sample holds its own, so their
+        # aligned values are their columns, with no search and no gather.
+        distinct = bool((self.t[1:] > self.t[:-1]).all())
         for name, cols, width in (
             ("gyro", ["x", "y", "z"], 3),
             ("mag", ["x", "y", "z"], 3),
@@ -190,8 +198,13 @@ class Windower:
             df = streams.get(name)
             timed = name in ("mag", "light")  # the slow sensors: their timing matters
             if df is not None and len(df):
-                idx = hold_index(df.index.to_numpy(dtype=float), self.t)
-                values = _held_rows(columns_array(df, cols), idx, unknown)
+                t_src = df.index.to_numpy(dtype=float)
+                if distinct and len(t_src) == n and np.array_equal(t_src, self.t):
+                    idx = np.arange(n)  # each IMU sample holds its own
+                    values = columns_array(df, cols)
+                else:
+                    idx = hold_index(t_src, self.t)
+                    values = _held_rows(columns_array(df, cols), idx, unknown)
                 if timed:
                     fresh = (idx > np.r_[-1, idx[:-1]]).astype(np.int8)
             else:
@@ -200,6 +213,8 @@ class Windower:
             aligned[name] = values[:, 0] if width == 1 else values
             if timed:
                 aligned[f"{name}_fresh"] = fresh
+        for values in aligned.values():
+            values.flags.writeable = False  # some are views of the recording's columns
         self.aligned = aligned
         self._scan_t, self._scan_rss, self._scan_heard = self._scans(streams.get("wifi"))
         self._n_windows = -(-n // samples)

@@ -111,6 +111,8 @@ def test_shard_schema_round_trip_matches_the_simulated_walk(tmp_path):
     info = run_shard(config.to_json(), shard.to_json(), str(tmp_path))
     path = tmp_path / info["file"]
     assert info["sha256"] == sha256_file(path)
+    assert info["bytes"] == path.stat().st_size
+    assert not list(path.parent.glob(".*"))  # no temporary file left behind
     table = pq.read_table(path)
     assert table.schema.equals(arrow_schema(config.window_samples))
     assert [c.name for c in COLUMNS] == table.column_names
@@ -118,6 +120,7 @@ def test_shard_schema_round_trip_matches_the_simulated_walk(tmp_path):
 
     walk = shard.walks[0]
     rec = simulate_walk(_site(shard.site), walk, config)
+    rec.validate()  # a mode schedule's walk, built without it: it must pass all the same
     w, stride = config.window_samples, config.stride
     t_imu = rec.accel.index.to_numpy()
     n_windows = (len(t_imu) - w) // stride + 1

@@ -107,6 +107,7 @@ def test_mode_signatures(mode_walks):
 
 def test_every_stream_is_finite_and_in_its_own_time_order(mode_walks):
     for rec in mode_walks.values():
+        rec.validate()  # built without it (Recording._from_built): it must pass all the same
         for name, df in rec.streams.items():
             assert df.index.is_monotonic_increasing, name
             num = df.select_dtypes("number").to_numpy()

@@ -25,8 +25,9 @@ One walk (:func:`simulate_walk`):
    (attitude by slerp, heading unwrapped first), velocity by central differences of
    the truth positions.
 
-The shard file is written atomically: the table is serialised in memory,
-hashed (sha256), written under a hidden temporary name and renamed into place;
+The shard file is written atomically: the table is serialised straight into
+a file under a hidden temporary name, hashed (sha256) as it is written, synced
+and renamed into place;
 then a small JSON sidecar (``shard-NNNNN.json``: checksum, counts, walks) is
 written the same way. A shard is complete when its sidecar exists and its
 checksum matches the file.
@@ -34,6 +35,7 @@ checksum matches the file.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import hashlib
@@ -43,8 +45,9 @@ import os
 import secrets
 import time
 import weakref
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
+from typing import Any, BinaryIO
 
 import numba
 import numpy as np
@@ -331,7 +334,10 @@ def window_table(
     quat = quat_ops.slerp(tt, columns_array(truth, ["qw", "qx", "qy", "qz"]), t)
     body = at(columns_array(truth, ["body_x", "body_y"]))
     heading = at(np.unwrap(truth["heading"].to_numpy(dtype=np.float64)))
-    heading = np.pi - np.mod(np.pi - heading, 2.0 * np.pi)  # wrapped to (−π, π]
+    # Wrapped to (−π, π] as π − ((π − heading) mod 2π), in place (the array is ours).
+    np.subtract(np.pi, heading, out=heading)
+    np.mod(heading, 2.0 * np.pi, out=heading)
+    np.subtract(np.pi, heading, out=heading)
     held = np.clip(below, 0, len(tt) - 1)
     # The per-sample modes come in long runs: the runs are named (codes in
     # sorted-name order), not 10⁵ strings one by one.
@@ -426,41 +432,79 @@ def _float_leaves() -> list[str]:
     return [c.name + ".list.element" * len(c.shape) for c in COLUMNS if c.dtype.startswith("float")]
 
 
-def parquet_bytes(table: pa.Table, config: DatasetConfig) -> memoryview:
-    """The shard file's bytes: a fixed layout, so equal tables give equal bytes.
+class _HashingSink:
+    """A write-only binary file that passes what it is given on to ``fh`` and hashes it."""
 
-    A read-only view of the writer's buffer (not copied into ``bytes``: it is
-    only hashed and written).
+    closed = False
+
+    def __init__(self, fh: BinaryIO):
+        self._fh = fh
+        self.sha256 = hashlib.sha256()
+        self.size = 0
+
+    def write(self, data: bytes | memoryview) -> int:
+        self.sha256.update(data)
+        self.size += len(data)
+        return self._fh.write(data)
+
+    def writable(self) -> bool:
+        return True
+
+    def flush(self) -> None:
+        pass  # ``fh`` is flushed and synced by its owner
+
+    def close(self) -> None:
+        self.closed = True  # ``fh`` stays open for its owner to sync
+
+
+def write_parquet(path: Path, table: pa.Table, config: DatasetConfig) -> tuple[str, int]:
+    """Write ``table`` as the shard file at ``path``, atomically; return its sha256 and size.
+
+    A fixed layout, so equal tables give equal bytes. The writer's output goes
+    straight to the temporary file (see :func:`write_atomically`) and into the
+    hash as it is produced, in blocks of a MiB: the file is never held whole
+    in memory (a growing buffer would be copied each time it doubles).
     """
-    sink = pa.BufferOutputStream()
-    pq.write_table(
-        table,
-        sink,
-        row_group_size=config.rows_per_row_group,
-        compression=config.compression,
-        # Dictionaries only where values repeat (ids, modes, BSSIDs); statistics
-        # only on the scalar columns, which readers filter on.
-        use_dictionary=[c.name for c in COLUMNS if c.dtype == "string"],
-        write_statistics=_scalar_columns(),
-        # Floats stored byte plane by byte plane: the planes of slowly varying
-        # signs and exponents compress well, so zstd shards are ~20 % smaller
-        # and written faster (the decoded values are the same).
-        use_byte_stream_split=_float_leaves(),
-    )
-    return memoryview(sink.getvalue())
+    with _atomic_file(path) as fh:
+        sink = _HashingSink(fh)
+        with pa.output_stream(sink, buffer_size=1 << 20) as stream:
+            pq.write_table(
+                table,
+                stream,
+                row_group_size=config.rows_per_row_group,
+                compression=config.compression,
+                # Dictionaries only where values repeat (ids, modes, BSSIDs); statistics
+                # only on the scalar columns, which readers filter on.
+                use_dictionary=[c.name for c in COLUMNS if c.dtype == "string"],
+                write_statistics=_scalar_columns(),
+                # Floats stored byte plane by byte plane: the planes of slowly varying
+                # signs and exponents compress well, so zstd shards are ~20 % smaller
+                # and written faster (the decoded values are the same).
+                use_byte_stream_split=_float_leaves(),
+            )
+    return sink.sha256.hexdigest(), sink.size
 
 
-def write_atomically(path: Path, data: bytes | memoryview) -> None:
+@contextlib.contextmanager
+def _atomic_file(path: Path) -> Iterator[BinaryIO]:
+    """A file open for writing under a hidden temporary name, synced and renamed to
+    ``path`` when the block ends; removed instead if it raises."""
     tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}{PARTIAL}")
     try:
         with open(tmp, "wb") as fh:
-            fh.write(data)
+            yield fh
             fh.flush()
             os.fsync(fh.fileno())
         os.replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
+
+
+def write_atomically(path: Path, data: bytes | memoryview) -> None:
+    """Write ``data`` to ``path``: a hidden temporary sibling, synced, then renamed."""
+    with _atomic_file(path) as fh:
+        fh.write(data)
 
 
 def sha256_file(path: Path) -> str:
@@ -529,16 +573,15 @@ def run_shard(config_json: dict[str, Any], shard_json: dict[str, Any], out: str)
             }
         )
     t4 = time.perf_counter()
-    data = parquet_bytes(pa.concat_tables(tables), config)
     folder = root / SHARDS_DIR
     folder.mkdir(parents=True, exist_ok=True)
-    write_atomically(folder / f"{shard.name}.parquet", data)
+    sha256, size = write_parquet(folder / f"{shard.name}.parquet", pa.concat_tables(tables), config)
     sidecar = {
         "format_version": FORMAT_VERSION,
         "name": shard.name,
         "file": f"{SHARDS_DIR}/{shard.name}.parquet",
-        "sha256": hashlib.sha256(data).hexdigest(),
-        "bytes": len(data),
+        "sha256": sha256,
+        "bytes": size,
         "rows": sum(w["windows"] for w in walks),
         "site": shard.site.id,
         "walks": walks,
