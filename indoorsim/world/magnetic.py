@@ -243,39 +243,46 @@ def _band_slope(xi, xo, k_in, k_out, inner, outer):  # pragma: no cover - compil
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
+def _pair_terms(p, i, qx, qy, qz, mx, my, mz, ramp, inner, outer):  # pragma: no cover - compiled
+    """What the field and its gradient share for point i of a chunk and one dipole:
+    r = p_i − q, the band weight and its ramp coordinates, the clamped distance
+    r_c, 1/r_c², 1/r_c³, m·r and s = 3(m·r)/r_c²."""
+    a_in, k_in, a_out, k_out, r_min = ramp
+    rx, ry, rz = p[0, i] - qx, p[1, i] - qy, p[2, i] - qz
+    r = math.sqrt(rx * rx + ry * ry + rz * rz)
+    w, xi, xo = _band_weight(r, a_in, k_in, a_out, k_out, inner, outer)
+    rc = max(r, r_min)
+    inv_r2 = 1.0 / (rc * rc)
+    inv_r3 = inv_r2 / rc
+    mr = mx * rx + my * ry + mz * rz
+    s = 3.0 * mr * inv_r2
+    return rx, ry, rz, w, xi, xo, rc, inv_r2, inv_r3, mr, s
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
 def _add_pairs(
     acc, p, m_pts, pos, mom, j, ramp, value, grad, inner, outer
 ):  # pragma: no cover - compiled
     """Add dipole j's weighted field (``value``) and gradient (``grad``) at
     the chunk's points ``p[:, :m_pts]`` to ``acc`` (see :func:`_band_field`);
     ``ramp`` = (a_in, k_in, a_out, k_out, r_min)."""
-    a_in, k_in, a_out, k_out, r_min = ramp
+    k_in, k_out = ramp[1], ramp[3]
     qx, qy, qz = pos[j, 0], pos[j, 1], pos[j, 2]
     mx, my, mz = mom[j, 0], mom[j, 1], mom[j, 2]
     if value:
         for i in range(m_pts):
-            rx, ry, rz = p[0, i] - qx, p[1, i] - qy, p[2, i] - qz
-            r = math.sqrt(rx * rx + ry * ry + rz * rz)
-            w, _, _ = _band_weight(r, a_in, k_in, a_out, k_out, inner, outer)
-            rc = max(r, r_min)
-            inv_r2 = 1.0 / (rc * rc)
-            inv_r3 = inv_r2 / rc
-            mr = mx * rx + my * ry + mz * rz
-            s = 3.0 * mr * inv_r2
+            rx, ry, rz, w, _, _, rc, inv_r2, inv_r3, mr, s = _pair_terms(
+                p, i, qx, qy, qz, mx, my, mz, ramp, inner, outer
+            )
             acc[0, i] += w * (s * rx - mx) * inv_r3
             acc[1, i] += w * (s * ry - my) * inv_r3
             acc[2, i] += w * (s * rz - mz) * inv_r3
     if grad:
         # The gradient in a loop of its own, so that neither loop branches.
         for i in range(m_pts):
-            rx, ry, rz = p[0, i] - qx, p[1, i] - qy, p[2, i] - qz
-            r = math.sqrt(rx * rx + ry * ry + rz * rz)
-            w, xi, xo = _band_weight(r, a_in, k_in, a_out, k_out, inner, outer)
-            rc = max(r, r_min)
-            inv_r2 = 1.0 / (rc * rc)
-            inv_r3 = inv_r2 / rc
-            mr = mx * rx + my * ry + mz * rz
-            s = 3.0 * mr * inv_r2
+            rx, ry, rz, w, xi, xo, rc, inv_r2, inv_r3, mr, s = _pair_terms(
+                p, i, qx, qy, qz, mx, my, mz, ramp, inner, outer
+            )
             # ∂(w·B_i)/∂r_k = w·(3[m_k r_i + m_i r_k + (m·r)δ_ik]/r⁵ − 15(m·r) r_i r_k/r⁷)
             # + w'(r)·B_i·r_k/r = r_i·u_k + z_i·r_k + D·δ_ik with u = 3w·m/r⁵,
             # z = u + w'·B/r − 15w(m·r)·r/r⁷ and D = 3w(m·r)/r⁵.
