@@ -80,20 +80,94 @@ def relative_rotvec(q0: ArrayLike, q1: ArrayLike) -> NDArray[np.float64]:
     return v * scale
 
 
-def slerp(t_knots: ArrayLike, q: ArrayLike, t: ArrayLike) -> NDArray[np.float64]:
-    """Spherical-linear interpolation of sign-continuous samples q (K, 4) at times t."""
+def slerp(
+    t_knots: ArrayLike,
+    q: ArrayLike,
+    t: ArrayLike,
+    *,
+    below: ArrayLike | None = None,
+    out: NDArray[np.floating] | None = None,
+) -> NDArray[np.floating]:
+    """Spherical-linear interpolation of sign-continuous samples q (K, 4) at times t.
+
+    Times outside the knots extrapolate along the first or last interval.
+
+    Args:
+        t_knots: (K,) sorted sample times, K ≥ 2.
+        q: (K, 4) unit quaternions, scalar first, without sign jumps.
+        t: (N,) query times.
+        below: optional (N,) index of the latest knot at or before each time
+            (``searchsorted(t_knots, t, side="right") - 1``, e.g.
+            :func:`~indoorsim.windows.hold_index`), when the caller has it.
+        out: optional (N, 4) array to write into; float32 holds the float64
+            result rounded.
+
+    Returns:
+        (N, 4) unit quaternions (``out`` if given).
+    """
+    # Any memory layout will do (the truth stream's columns come column-major).
     tk = np.asarray(t_knots, dtype=float)
     qk = np.asarray(q, dtype=float)
     tq = np.asarray(t, dtype=float)
-    i = np.clip(np.searchsorted(tk, tq, side="right") - 1, 0, len(tk) - 2)
-    f = ((tq - tk[i]) / (tk[i + 1] - tk[i]))[:, None]
-    a, b = qk[i], qk[i + 1]
-    b = b * np.where(np.einsum("ij,ij->i", a, b) < 0, -1.0, 1.0)[:, None]
-    cos = np.clip(np.einsum("ij,ij->i", a, b), -1.0, 1.0)[:, None]
-    theta = np.arccos(cos)
-    sin = np.sin(theta)
-    small = sin < 1e-9
-    wa = np.where(small, 1.0 - f, np.sin((1.0 - f) * theta) / np.where(small, 1.0, sin))
-    wb = np.where(small, f, np.sin(f * theta) / np.where(small, 1.0, sin))
-    out = wa * a + wb * b
-    return out / np.linalg.norm(out, axis=1, keepdims=True)
+    if below is None:
+        below = np.searchsorted(tk, tq, side="right") - 1
+    below = np.asarray(below, dtype=np.intp)
+    n = len(tq)
+    i, f, sign = np.empty(n, dtype=np.intp), np.empty(n), np.empty(n)
+    angles = np.empty((3, n))  # rows: θ, (1 − f)θ, fθ; then their sines
+    _slerp_setup(tk, qk, tq, below, i, f, sign, angles[0])
+    # The transcendentals are numpy's own, on whole arrays between the two
+    # compiled passes: the same results, bit for bit, as the numpy form.
+    theta = np.arccos(angles[0], out=angles[0])
+    np.multiply(np.subtract(1.0, f, out=angles[1]), theta, out=angles[1])
+    np.multiply(f, theta, out=angles[2])
+    sin, sin_a, sin_b = np.sin(angles, out=angles)
+    if out is None:
+        out = np.empty((n, 4))
+    _slerp_blend(qk, i, f, sign, sin, sin_a, sin_b, out)
+    return out
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _slerp_setup(tk, qk, t, below, i, f, sign, cos):  # pragma: no cover - compiled
+    """Per time: the interval i, its fraction f, the sign taking q[i + 1] the short way
+    from q[i], and the cosine of the angle between them (clipped to [−1, 1])."""
+    last = tk.shape[0] - 2
+    for m in range(t.shape[0]):
+        k = min(max(below[m], 0), last)
+        i[m] = k
+        f[m] = (t[m] - tk[k]) / (tk[k + 1] - tk[k])
+        s = -1.0 if _dot(qk, k, 1.0) < 0.0 else 1.0
+        sign[m] = s
+        c = _dot(qk, k, s)
+        cos[m] = -1.0 if c < -1.0 else (1.0 if c > 1.0 else c)
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _dot(qk, k, s):  # pragma: no cover - compiled
+    """q[k] · (s q[k + 1]), summed as numpy's einsum sums four products: (0 + 2) + (1 + 3)."""
+    p0 = qk[k, 0] * (qk[k + 1, 0] * s)
+    p1 = qk[k, 1] * (qk[k + 1, 1] * s)
+    p2 = qk[k, 2] * (qk[k + 1, 2] * s)
+    p3 = qk[k, 3] * (qk[k + 1, 3] * s)
+    return (p0 + p2) + (p1 + p3)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _slerp_blend(qk, i, f, sign, sin, sin_a, sin_b, out):  # pragma: no cover - compiled
+    """out = (wa q[i] + wb s q[i + 1]) / its norm, with wa = sin((1 − f)θ) / sin θ and
+    wb = sin(fθ) / sin θ, or the linear weights where sin θ < 1e-9 (nearly equal)."""
+    for m in range(i.shape[0]):
+        k, s = i[m], sign[m]
+        if sin[m] < 1e-9:
+            wa, wb = 1.0 - f[m], f[m]
+        else:
+            wa, wb = sin_a[m] / sin[m], sin_b[m] / sin[m]
+        r0 = wa * qk[k, 0] + wb * (qk[k + 1, 0] * s)
+        r1 = wa * qk[k, 1] + wb * (qk[k + 1, 1] * s)
+        r2 = wa * qk[k, 2] + wb * (qk[k + 1, 2] * s)
+        r3 = wa * qk[k, 3] + wb * (qk[k + 1, 3] * s)
+        # Summed left to right, as numpy's norm along a row of four.
+        norm = np.sqrt(((r0 * r0 + r1 * r1) + r2 * r2) + r3 * r3)
+        out[m, 0], out[m, 1] = r0 / norm, r1 / norm
+        out[m, 2], out[m, 3] = r2 / norm, r3 / norm

@@ -41,6 +41,21 @@ def test_slerp_matches_scipy():
     assert np.abs((got.inv() * want).magnitude()).max() < 1e-9
 
 
+def test_slerp_takes_the_interval_index_and_a_float32_output():
+    t = np.linspace(0, 10, 21)
+    q = _random(21, 8).as_quat(scalar_first=True)
+    q[5] = q[4]  # equal neighbours: the linear weights
+    q[1:] *= np.where(np.einsum("ij,ij->i", q[:-1], q[1:]) < 0, -1.0, 1.0)[:, None]
+    tq = np.sort(np.random.default_rng(9).uniform(-1, 11, 300))  # extrapolated at the ends
+    want = quat.slerp(t, q, tq)
+    below = np.searchsorted(t, tq, side="right") - 1
+    np.testing.assert_array_equal(quat.slerp(t, q, tq, below=below), want)
+    out = np.empty((300, 4), dtype=np.float32)
+    assert quat.slerp(t, np.asfortranarray(q), tq, below=below, out=out) is out
+    np.testing.assert_array_equal(out, want.astype(np.float32))
+    np.testing.assert_allclose(np.linalg.norm(want, axis=1), 1.0, atol=1e-15)
+
+
 def test_rotate_broadcasts_and_inverts():
     rng = np.random.default_rng(5)
     rot = Rotation.random(6, random_state=11)

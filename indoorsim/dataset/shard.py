@@ -262,29 +262,43 @@ def simulate_walk(site: Site, walk: WalkSpec, config: DatasetConfig) -> Recordin
 
 
 def _interpolate(t_src: NDArray[np.float64], t: NDArray[np.float64], below: NDArray[np.intp]):
-    """Linear interpolation from ``t_src`` to ``t`` (inside its span), as a function of values.
+    """Linear interpolation from ``t_src`` to ``t`` (inside its span), as a function of
+    values and optionally the output dtype (float32: the float64 result rounded).
 
     ``below`` is :func:`~indoorsim.windows.hold_index` of ``t`` in ``t_src``.
     """
-    j = np.clip(below, 0, len(t_src) - 2)
-    f = np.clip((t - t_src[j]) / (t_src[j + 1] - t_src[j]), 0.0, 1.0)
+    j, f = _fractions(t_src, t, below)
 
-    def at(values: NDArray[np.float64]) -> NDArray[np.float64]:
-        out = _lerp(values.reshape(len(values), -1), j, f)
-        return out.reshape((len(t), *values.shape[1:]))
+    def at(values: NDArray[np.float64], dtype: type = np.float64) -> NDArray:
+        out = np.empty((len(t), *values.shape[1:]), dtype=dtype)
+        _lerp(values.reshape(len(values), -1), j, f, out.reshape(len(t), -1))
+        return out
 
     return at
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _lerp(v, j, f):  # pragma: no cover - compiled
-    """``v[j] + f * (v[j + 1] - v[j])`` row by row (the same operations), in one pass."""
-    out = np.empty((j.shape[0], v.shape[1]))
+def _fractions(t_src, t, below):  # pragma: no cover - compiled
+    """The interval ``j = clip(below, 0, len(t_src) − 2)`` of each time and its fraction
+    ``f = clip((t − t_src[j]) / (t_src[j + 1] − t_src[j]), 0, 1)``, as numpy clips
+    (NaN kept, −0.0 kept)."""
+    last = t_src.shape[0] - 2
+    j = np.empty(t.shape[0], np.intp)
+    f = np.empty(t.shape[0])
+    for i in range(t.shape[0]):
+        k = min(max(below[i], 0), last)
+        x = (t[i] - t_src[k]) / (t_src[k + 1] - t_src[k])
+        j[i], f[i] = k, 0.0 if x < 0.0 else (1.0 if x > 1.0 else x)
+    return j, f
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _lerp(v, j, f, out):  # pragma: no cover - compiled
+    """``out = v[j] + f * (v[j + 1] - v[j])`` row by row (the same operations), in one pass."""
     for i in range(j.shape[0]):
         for k in range(v.shape[1]):
             a = v[j[i], k]
             out[i, k] = a + f[i] * (v[j[i] + 1, k] - a)
-    return out
 
 
 def _fixed(values: NDArray, shape: tuple[int, ...]) -> pa.Array:
@@ -329,9 +343,17 @@ def window_table(
     below = hold_index(tt, t)
     at = _interpolate(tt, t, below)
     pos_truth = columns_array(truth, ["x", "y", "z"])
-    pos = at(pos_truth)
-    vel = at(np.gradient(pos_truth, tt, axis=0))
-    quat = quat_ops.slerp(tt, columns_array(truth, ["qw", "qx", "qy", "qz"]), t)
+    # Labels stored only as float32 are written so straight away (the same
+    # rounding of the same float64 values as a cast afterwards).
+    pos = at(pos_truth, np.float32)
+    vel = at(np.gradient(pos_truth, tt, axis=0), np.float32)
+    quat = quat_ops.slerp(
+        tt,
+        columns_array(truth, ["qw", "qx", "qy", "qz"]),
+        t,
+        below=below,
+        out=np.empty((n, 4), dtype=np.float32),
+    )
     body = at(columns_array(truth, ["body_x", "body_y"]))
     heading = at(np.unwrap(truth["heading"].to_numpy(dtype=np.float64)))
     # Wrapped to (−π, π] as π − ((π − heading) mod 2π), in place (the array is ours).
