@@ -46,6 +46,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import threading
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -529,30 +530,77 @@ def walk(
 # ---------------------------------------------------------------------- path
 
 
-@functools.lru_cache(maxsize=256)
-def _unit_turn(
-    phi: float, n: int
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], float]:
-    """A turn by ``phi`` rad over unit length, from the origin heading +x, at n points.
+_UnitTurn = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], float]
+
+
+@functools.lru_cache(maxsize=64)
+def _turn_grid(n: int) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """What a unit turn at n points takes from its parameter alone: u (4(n − 1) + 1
+    points on [0, 1]), u − sin(2πu)/2π, and sin²(πu) at every 4th u."""
+    u = np.linspace(0.0, 1.0, 4 * (n - 1) + 1)
+    shape = u - np.sin(2.0 * np.pi * u) / (2.0 * np.pi)
+    bell = np.sin(np.pi * u[::4]) ** 2
+    for a in (u, shape, bell):
+        a.flags.writeable = False
+    return u, shape, bell
+
+
+# Unit turns by (φ, n), most recently used last: routes pass many of their
+# corners more than once. The lock keeps the bookkeeping whole under threads.
+_UNIT_TURNS: dict[tuple[float, int], _UnitTurn] = {}
+_UNIT_TURNS_SIZE = 256
+_UNIT_TURNS_LOCK = threading.Lock()
+
+
+def _unit_turns(keys: list[tuple[float, int]]) -> list[_UnitTurn]:
+    """Turns by φ rad over unit length, from the origin heading +x, at n points,
+    for each (φ, n) in ``keys``.
 
     Curvature 2φ·sin²(πu) for u in [0, 1], hence heading φ·(u − sin(2πu)/2π).
-    Cached (read-only arrays): routes pass many of their corners more than once.
+    Those not cached are computed together: the headings' cosines and sines
+    in one call, the trapezoid integrals of the turns side by side in one
+    array (each row's cumulative sum is that of the turn alone, so the same
+    values as one turn at a time). Read-only arrays.
 
     Returns:
-        (n, 2) points, (n,) heading, (n,) curvature, and the tangent length:
-        the distance from either end to the corner where the two legs meet.
+        For each key: (n, 2) points, (n,) heading, (n,) curvature, and the
+        tangent length: the distance from either end to the corner where the
+        two legs meet.
     """
-    u = np.linspace(0.0, 1.0, 4 * (n - 1) + 1)
-    theta = phi * (u - np.sin(2.0 * np.pi * u) / (2.0 * np.pi))
-    # Both coordinates in one call (row by row, the same sums).
-    xy = cumulative_trapezoid(np.stack([np.cos(theta), np.sin(theta)]), u, initial=0.0).T[::4]
-    kappa = 2.0 * phi * np.sin(np.pi * u[::4]) ** 2
-    theta = theta[::4]
-    for a in (xy, theta, kappa):
-        a.flags.writeable = False
-    # The curve is symmetric about the corner's bisector: its end lies at
-    # corner + T·(cos φ, sin φ) with the corner at (T, 0).
-    return xy, theta, kappa, float(xy[-1, 0] / (1.0 + math.cos(phi)))
+    with _UNIT_TURNS_LOCK:
+        found = {key: _UNIT_TURNS.pop(key) for key in keys if key in _UNIT_TURNS}
+        _UNIT_TURNS.update(found)  # now the most recent
+    missing = list(dict.fromkeys(key for key in keys if key not in found))
+    if missing:
+        grids = [_turn_grid(n) for _, n in missing]
+        sizes = np.array([len(u) for u, _, _ in grids])
+        theta = np.repeat([phi for phi, _ in missing], sizes) * np.concatenate(
+            [shape for _, shape, _ in grids]
+        )
+        # The turns as rows, padded with u = 1 (no further area) after their ends.
+        inside = np.arange(sizes.max()) < sizes[:, None]
+        u = np.ones(inside.shape)
+        u[inside] = np.concatenate([grid_u for grid_u, _, _ in grids])
+        cos_sin = np.zeros((2, *inside.shape))
+        cos_sin[:, inside] = np.stack([np.cos(theta), np.sin(theta)])
+        xy = cumulative_trapezoid(cos_sin, u[None], initial=0.0)
+        starts = np.cumsum(sizes) - sizes
+        for k, (phi, n) in enumerate(missing):
+            turn_xy = np.ascontiguousarray(xy[:, k, : sizes[k] : 4].T)
+            turn_theta = theta[starts[k] : starts[k] + sizes[k] : 4].copy()
+            kappa = 2.0 * phi * grids[k][2]
+            for a in (turn_xy, turn_theta, kappa):
+                a.flags.writeable = False
+            # The curve is symmetric about the corner's bisector: its end lies
+            # at corner + T·(cos φ, sin φ) with the corner at (T, 0).
+            tangent = float(turn_xy[-1, 0] / (1.0 + math.cos(phi)))
+            found[(phi, n)] = (turn_xy, turn_theta, kappa, tangent)
+        with _UNIT_TURNS_LOCK:
+            for key in missing:
+                _UNIT_TURNS[key] = found[key]
+            while len(_UNIT_TURNS) > _UNIT_TURNS_SIZE:
+                del _UNIT_TURNS[next(iter(_UNIT_TURNS))]
+    return [found[key] for key in keys]
 
 
 def _place(
@@ -583,7 +631,7 @@ def _turn_lengths(
     vertex, d_in, d_out = corners
     if len(phi) == 0:
         return np.zeros(0)
-    # The turns at 33 points (as _unit_turn(φ, 33) computes them), all at once.
+    # The turns at 33 points (as _unit_turns computes them), all at once.
     u = np.linspace(0.0, 1.0, 129)
     theta = phi[:, None] * (u - np.sin(2.0 * np.pi * u) / (2.0 * np.pi))
     xy = cumulative_trapezoid(np.stack([np.cos(theta), np.sin(theta)]), u, initial=0.0)
@@ -748,6 +796,10 @@ def _drop_short_legs(pts: NDArray[np.float64]) -> NDArray[np.float64]:
 
     The end points stay; a vertex just before the end gives way to it.
     """
+    # Usually every leg is long enough (with a margin for rounding): then
+    # nothing is dropped, and the loop below need not run.
+    if np.all(np.hypot(*np.diff(pts, axis=0).T) > _MIN_LEG_M * (1.0 + 1e-9)):
+        return pts.copy()
     keep = [0]
     for i in range(1, len(pts) - 1):
         if np.linalg.norm(pts[i] - pts[keep[-1]]) >= _MIN_LEG_M:
@@ -938,23 +990,27 @@ class _Path:
             params.wall_distance_m,
         )
 
+        # Where the curve would have to be so tight that it could only be
+        # walked at a crawl, people stop and turn on the spot instead. The
+        # other corners' curves (their unit turns computed together).
+        curves = {}
+        for j in turned.tolist():
+            phi, length = turns[j], fitted[j]
+            if omega_lim * length / (2.0 * abs(phi)) >= _PIVOT_BELOW_MPS:
+                curves[j] = (float(phi), max(9, math.ceil(length / _CURVE_DS_M) + 1))
+        unit_turns = dict(zip(curves, _unit_turns(list(curves.values())), strict=True))
+
         for j, phi in enumerate(turns):
             vertex = pts[j + 1]
             if abs(phi) < 1e-9:  # collinear: nothing to turn
                 continue
-            if abs(phi) > pivot_rad:
+            if j not in curves:  # sharper than a pivot turn, or too cramped to walk
                 line_to(vertex)
                 pivots.append((float(blocks[-1][-1, 0]), float(phi)))
                 continue
             length = fitted[j]
-            # Where the curve has to be so tight that it could only be walked
-            # at a crawl, people stop and turn on the spot instead.
-            if omega_lim * length / (2.0 * abs(phi)) < _PIVOT_BELOW_MPS:
-                line_to(vertex)
-                pivots.append((float(blocks[-1][-1, 0]), float(phi)))
-                continue
-            n = max(9, math.ceil(length / _CURVE_DS_M) + 1)
-            unit_xy, unit_th, unit_ka, tangent = _unit_turn(float(phi), n)
+            n = curves[j][1]
+            unit_xy, unit_th, unit_ka, tangent = unit_turns[j]
             start = vertex - unit[j] * tangent * length
             line_to(start)
             xy = _place(unit_xy, length, start, float(ang[j]))
@@ -1331,10 +1387,12 @@ def _steer(
     """
     space = pymunk.Space()
     space.collision_slop = 1e-3  # pymunk's default (0.1) is in metres here: far too loose
+    walls = []
     for a, b in plan.walkable_edges.tolist():
         seg = pymunk.Segment(space.static_body, a, b, 0.0)
         seg.friction = 0.0
-        space.add(seg)
+        walls.append(seg)
+    space.add(*walls)  # in one call: pymunk's add costs more per call than per shape
     mass = 70.0
     body = pymunk.Body(mass, math.inf)  # the disc never spins: heading is planned
     disc = pymunk.Circle(body, radius)

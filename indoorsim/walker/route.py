@@ -199,8 +199,10 @@ class _Roadmap:
         nodes: (n, 2) reflex vertices of ``free``.
         edges: (m, 2) index pairs (i < j, sorted) of mutually visible nodes.
         weights: (m,) their distances.
-        indptr: (n + 1,) row pointers of ``edges`` as a sparse matrix's rows
-            (the graph of a route puts them after its start and goal, rows 2...).
+        adjacency: the edges as the rows of a sparse matrix (row pointers,
+            columns, weights: each node's higher neighbours, ascending), then
+            the same of its transpose (the lower neighbours), for
+            :func:`_node_rows`.
     """
 
     free: shapely.Geometry
@@ -209,7 +211,7 @@ class _Roadmap:
     nodes: NDArray[np.float64]
     edges: NDArray[np.intp]
     weights: NDArray[np.float64]
-    indptr: NDArray[np.int32]
+    adjacency: tuple[NDArray[np.int32], NDArray[np.int32], NDArray[np.float64], ...]
     # Recent route ends: where each joins ``free`` and which nodes it sees from
     # there. A route of many legs starts each leg where the last one ended.
     _ends: dict[bytes, tuple[NDArray[np.float64] | None, NDArray[np.bool_] | None]] = field(
@@ -243,16 +245,25 @@ class _Roadmap:
         i, j = np.triu_indices(len(nodes), k=1)
         seen = _visible(sight, nodes[i], nodes[j], sight_edges)
         i, j = i[seen], j[seen]
-        indptr = np.zeros(len(nodes) + 1, np.int32)
-        np.cumsum(np.bincount(i, minlength=len(nodes)), out=indptr[1:])
+        weights = np.linalg.norm(nodes[i] - nodes[j], axis=1)
+        upper_ptr, lower_ptr = np.zeros((2, len(nodes) + 1), np.int32)
+        np.cumsum(np.bincount(i, minlength=len(nodes)), out=upper_ptr[1:])
+        np.cumsum(np.bincount(j, minlength=len(nodes)), out=lower_ptr[1:])
+        # The pairs are sorted by i, so a stable sort by j keeps each node's
+        # lower neighbours ascending.
+        by_j = np.argsort(j, kind="stable")
+        adjacency = (
+            upper_ptr, j.astype(np.int32), weights,
+            lower_ptr, i[by_j].astype(np.int32), weights[by_j],
+        )  # fmt: skip
         return cls(
             free=free,
             sight=sight,
             sight_edges=sight_edges,
             nodes=nodes,
             edges=np.column_stack([i, j]),
-            weights=np.linalg.norm(nodes[i] - nodes[j], axis=1),
-            indptr=indptr,
+            weights=weights,
+            adjacency=adjacency,
         )
 
 
@@ -331,6 +342,54 @@ def _crosses_any(p0, p1, ea, eb, out):  # pragma: no cover - compiled
             break
 
 
+@numba.njit(cache=True)
+def _node_rows(
+    up_ptr, up_col, up_w, lo_ptr, lo_col, lo_w, w_a, w_b, w_ab, indptr, indices, data
+):  # pragma: no cover - compiled
+    """The both-ways CSR rows of a route's graph: start 0, goal 1, roadmap nodes 2...
+
+    Each row is the node's row of the one-way matrix (edges to higher
+    indices, ascending) followed by its row of the transpose (edges from
+    lower indices, ascending). The start's edges: to the goal if ``w_ab`` ≥ 0,
+    to roadmap node r (graph node r + 2) if ``w_a[r]`` ≥ 0, of that length;
+    the goal's likewise from ``w_b``; the roadmap's from ``up_*`` (one-way
+    rows, i < j) and ``lo_*`` (their transpose).
+    """
+    m = len(up_ptr) - 1
+    k = 0
+    indptr[0] = 0
+    if w_ab >= 0.0:
+        indices[k], data[k] = 1, w_ab
+        k += 1
+    for r in range(m):
+        if w_a[r] >= 0.0:
+            indices[k], data[k] = r + 2, w_a[r]
+            k += 1
+    indptr[1] = k
+    for r in range(m):
+        if w_b[r] >= 0.0:
+            indices[k], data[k] = r + 2, w_b[r]
+            k += 1
+    if w_ab >= 0.0:
+        indices[k], data[k] = 0, w_ab
+        k += 1
+    indptr[2] = k
+    for r in range(m):
+        for e in range(up_ptr[r], up_ptr[r + 1]):
+            indices[k], data[k] = up_col[e] + 2, up_w[e]
+            k += 1
+        if w_a[r] >= 0.0:
+            indices[k], data[k] = 0, w_a[r]
+            k += 1
+        if w_b[r] >= 0.0:
+            indices[k], data[k] = 1, w_b[r]
+            k += 1
+        for e in range(lo_ptr[r], lo_ptr[r + 1]):
+            indices[k], data[k] = lo_col[e] + 2, lo_w[e]
+            k += 1
+        indptr[r + 3] = k
+
+
 def _shortest_path(
     plan: FloorPlan,
     start: NDArray[np.float64],
@@ -355,24 +414,32 @@ def _shortest_path(
     if a is None or b is None:
         raise no_path
     # Nodes 0 and 1 are where start and goal join the eroded area, then the
-    # roadmap's. The graph is assembled directly in the canonical CSR layout
-    # (each row's columns ascending: start→goal, start→nodes, goal→nodes, then
-    # the roadmap's i < j edges), the very matrix a COO build would sort into,
-    # without scipy's per-call COO conversion.
+    # roadmap's. Each edge is stored in both directions and searched as a
+    # directed graph: scipy's undirected search would build the transpose per
+    # call and scan each node's row of the matrix, then of its transpose. The
+    # rows here are those two concatenated (:func:`_node_rows`), so the search
+    # relaxes the same edges in the same order and finds the same path, ties
+    # included.
     n = len(road.nodes) + 2
     pts = np.concatenate([np.stack([a, b]), road.nodes])
     direct = _visible(road.sight, a[None], b[None], road.sight_edges)[0]
     from_a = np.flatnonzero(seen_a) + 2
     from_b = np.flatnonzero(seen_b) + 2
-    row_a = np.concatenate([[1], from_a]) if direct else from_a
-    indices = np.concatenate([row_a, from_b, road.edges[:, 1] + 2]).astype(np.int32)
-    src = np.concatenate([np.zeros(len(row_a), np.intp), np.ones(len(from_b), np.intp)])
-    w = np.linalg.norm(pts[src] - pts[indices[: len(src)]], axis=1)
-    indptr = np.concatenate([[0, len(row_a), len(src)], road.indptr[1:] + len(src)])
-    graph = csr_matrix(
-        (np.concatenate([w, road.weights]), indices, indptr.astype(np.int32)), shape=(n, n)
-    )
-    dist, pred = dijkstra(graph, directed=False, indices=0, return_predecessors=True)
+    # The start's and goal's edges as a graph of start→goal, start→nodes,
+    # goal→nodes would have them (the same distances).
+    targets = np.concatenate([[1], from_a, from_b] if direct else [from_a, from_b])
+    src = np.zeros(len(targets), np.intp)
+    src[len(targets) - len(from_b) :] = 1
+    w = np.linalg.norm(pts[src] - pts[targets], axis=1)
+    w_a, w_b = np.full(n - 2, -1.0), np.full(n - 2, -1.0)  # -1: not seen
+    w_a[seen_a] = w[int(direct) : int(direct) + len(from_a)]
+    w_b[seen_b] = w[len(targets) - len(from_b) :]
+    size = 2 * (len(targets) + len(road.weights))  # every edge twice
+    indptr, indices, data = np.empty(n + 1, np.int32), np.empty(size, np.int32), np.empty(size)
+    w_ab = w[0] if direct else -1.0
+    _node_rows(*road.adjacency, w_a, w_b, w_ab, indptr, indices, data)
+    graph = csr_matrix((data, indices, indptr), shape=(n, n))
+    dist, pred = dijkstra(graph, directed=True, indices=0, return_predecessors=True)
     if not math.isfinite(dist[1]):
         raise no_path
     chain = [1]

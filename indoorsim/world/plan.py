@@ -307,27 +307,35 @@ class FloorPlan:
     def _edge_grid(
         self, max_distance: float
     ) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.float64]]:
-        """Cells of side ``max_distance`` (at least 0.25 m) listing the edges within
-        ``max_distance`` of each; built once per distance."""
+        """Cells of side ``max_distance``/4 (at least 0.125 m) listing the edges within
+        ``max_distance`` of each, in ascending order; built once per distance.
+
+        Small cells keep each point's candidates few: a cell's edges come from a
+        square of side cell + 2·max_distance around it.
+        """
         cache = self.__dict__.setdefault("_edge_grids", {})
         if max_distance not in cache:
             ab = self.walkable_edges
-            cell = max(max_distance, 0.25)
+            cell = max(max_distance / 4.0, 0.125)
             lo = ab.reshape(-1, 2).min(axis=0) - max_distance
             n = np.floor((ab.reshape(-1, 2).max(axis=0) + max_distance - lo) / cell).astype(int) + 1
-            # Every cell whose square the edge's box, grown by max_distance, overlaps.
+            # Every cell whose square the edge's box, grown by max_distance,
+            # overlaps: the cells of each edge's block, all edges at once.
             box_lo = np.floor((ab.min(axis=1) - max_distance - lo) / cell).astype(int)
             box_hi = np.floor((ab.max(axis=1) + max_distance - lo) / cell).astype(int)
-            cells, owners = [], []
-            for e, (l0, l1, h0, h1) in enumerate(np.column_stack([box_lo, box_hi]).tolist()):
-                gx, gy = np.meshgrid(np.arange(l0, h0 + 1), np.arange(l1, h1 + 1))
-                cells.append((gy * n[0] + gx).ravel())
-                owners.append(np.full(gx.size, e))
-            cell_of = np.concatenate(cells)
+            width = box_hi - box_lo + 1
+            count = width[:, 0] * width[:, 1]
+            owners = np.repeat(np.arange(len(ab)), count)
+            k = np.arange(len(owners)) - np.repeat(np.cumsum(count) - count, count)
+            gx = box_lo[owners, 0] + k % width[owners, 0]
+            gy = box_lo[owners, 1] + k // width[owners, 0]
+            cell_of = gy * n[0] + gx
+            # Stable: each cell's edges stay in ascending order (the kernel's
+            # ties keep the first).
             order = np.argsort(cell_of, kind="stable")
             start = np.searchsorted(cell_of[order], np.arange(n[0] * n[1] + 1))
             grid = np.array([lo[0], lo[1], cell, n[0], n[1]], dtype=float)
-            cache[max_distance] = (start, np.concatenate(owners)[order].astype(np.intp), grid)
+            cache[max_distance] = (start, owners[order].astype(np.intp), grid)
         return cache[max_distance]
 
     def crosses_wall(self, p0: ArrayLike, p1: ArrayLike) -> NDArray[np.bool_]:
