@@ -279,3 +279,22 @@ def test_failing_task_is_retried_then_reported_by_name(tmp_path, monkeypatch, ca
         ]
         assert main(argv) == 3
         assert doomed.name in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("closed", "status"), [(True, 0), (False, 3)])
+def test_quick_exit_only_after_a_clean_worker_close(closed, status):
+    # A local worker process whose worker closed cleanly ends at once, its output
+    # flushed; one that did not keeps its own exit status (here 3).
+    script = (
+        "import sys\n"
+        "from indoorsim.dataset.driver import _QuickExit\n"
+        "plugin = _QuickExit()\n"
+        "plugin.setup(worker=None)\n"
+        f"if {closed}:\n"
+        "    plugin.teardown(worker=None)\n"
+        "sys.stdout.write('unflushed output')\n"
+        "sys.exit(3)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert done.returncode == status, done.stderr
+    assert done.stdout == "unflushed output"

@@ -31,10 +31,15 @@ and, where installed, whatever ``threadpoolctl`` controls): the environment of
 a local cluster's worker processes is set before they start
 (``distributed.nanny.pre-spawn-environ``), and a worker plugin sets the limits
 again on any cluster.
+
+A local cluster's worker processes, once their worker has closed cleanly, end
+without finalising the interpreter (:class:`_QuickExit`): with numba's LLVM
+loaded that takes ~0.3 s, paid at the end of every run.
 """
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import datetime
 import json
@@ -212,6 +217,39 @@ class _SingleThreaded(WorkerPlugin):
             sys.modules["torch"].set_num_threads(1)
 
 
+class _QuickExit(WorkerPlugin):
+    """Worker plugin for the worker processes of our own local cluster: a process
+    whose worker has closed cleanly exits at once with status 0, skipping the interpreter's
+    finalisation (~0.3 s of module and LLVM teardown while the run waits for
+    its cluster to close).
+
+    The exit hook is registered after every library's own, so it runs first
+    (atexit is last in, first out) — but only after the worker's close has
+    finished (its plugins torn down, its comms and services closed) and
+    multiprocessing's own exit handling has run; a worker that fails or is
+    killed exits the ordinary way. Not used on an existing cluster, whose
+    processes are not ours.
+    """
+
+    idempotent = True
+    name = "indoorsim-quick-exit"
+
+    def __init__(self) -> None:
+        self._closed = False
+
+    def setup(self, worker: Any) -> None:
+        atexit.register(self._exit)
+
+    def teardown(self, worker: Any) -> None:
+        self._closed = True
+
+    def _exit(self) -> None:
+        if self._closed:
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(0)
+
+
 @contextlib.contextmanager
 def _client(workers: int | None, scheduler: str | None) -> Iterator[Client]:
     if scheduler is not None:
@@ -232,6 +270,7 @@ def _client(workers: int | None, scheduler: str | None) -> Iterator[Client]:
             Client(cluster, set_as_default=False) as client,
         ):
             client.register_plugin(_SingleThreaded(), name=_SingleThreaded.name)
+            client.register_plugin(_QuickExit(), name=_QuickExit.name)
             yield client
 
 
