@@ -20,10 +20,14 @@ for byte. The machine's load average is printed before and after each run:
 other jobs on the same cores lower the wall-clock figures (and the 2-worker
 ones most), not the CPU-time ones.
 
-Each worker process pays a fixed start of about 2 s (cluster start, imports,
-numba's first dispatch, the first site) inside the wall-clock figures: about a
-tenth of the default run, so a larger run (``--sites 16``) is closer to the
-steady state a real data set sees.
+Each worker process pays a fixed cost of about 1.4 s inside the wall-clock
+figures: the cluster's start with the worker's imports (~1 s: Python, Dask,
+numpy, scipy, pandas, pyarrow, numba, indoorsim), numba's first dispatch and
+the first site's one-off work (~0.3 s), the close (~0.05 s). That is about a
+tenth of the default run, and it is paid once per worker whatever the run's
+size, so it lowers the 2-worker figures most (the scaling efficiency reads
+~85–87 % here at the default size, ~90 % and more at ``--sites 16``, closer to
+the steady state a real data set sees).
 
 Run: ``python benchmarks/bench_dataset.py [--sites 8] [--walks 4] [--minutes 10]``.
 """
