@@ -33,7 +33,8 @@ a local cluster's worker processes is set before they start
 again on any cluster.
 
 A local cluster's workers run without Dask's statistical profiler (it samples
-the task's stack every 10 ms, for a dashboard this job does not open), and
+the task's stack every 10 ms, for a dashboard this job does not open) and with
+slower housekeeping (event-loop tick, system and memory monitors), and
 their processes, once their worker has closed cleanly, end
 without finalising the interpreter (:class:`_QuickExit`): with numba's LLVM
 loaded that takes ~0.3 s, paid at the end of every run.
@@ -265,6 +266,14 @@ def _client(workers: int | None, scheduler: str | None) -> Iterator[Client]:
         # The statistical profiler samples the task's stack every 10 ms (GIL
         # switches, ~3 % of a shard's time) for a dashboard nobody watches here.
         "distributed.worker.profile.enabled": False,
+        # Housekeeping at a pace for tasks of seconds, not Dask's defaults for
+        # interactive clusters (event-loop tick 20 ms, system monitor 0.5 s,
+        # memory monitor 0.1 s): idle, a worker used ~2 % of a core on it and
+        # the scheduler's process ~3 %, which with two workers on two cores
+        # came out of the shards' time.
+        "distributed.admin.tick.interval": "1s",
+        "distributed.admin.system-monitor.interval": "5s",
+        "distributed.worker.memory.monitor-interval": "1s",
     }
     with dask.config.set(local):
         with (
