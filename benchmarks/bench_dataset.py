@@ -25,9 +25,9 @@ figures: the cluster's start with the worker's imports (~1 s: Python, Dask,
 numpy, scipy, pandas, pyarrow, numba, indoorsim), numba's first dispatch and
 the first site's one-off work (~0.3 s), the close (~0.05 s). That is about a
 tenth of the default run, and it is paid once per worker whatever the run's
-size, so it lowers the 2-worker figures most (the scaling efficiency reads
-~85–87 % here at the default size, ~90 % and more at ``--sites 16``, closer to
-the steady state a real data set sees).
+size, so it lowers the 2-worker figures most (on this 2-core machine the
+scaling efficiency reads ~87–88 % at the default size, ~92 % at
+``--sites 16``, closer to the steady state a real data set sees).
 
 Run: ``python benchmarks/bench_dataset.py [--sites 8] [--walks 4] [--minutes 10]``.
 """
