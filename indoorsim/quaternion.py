@@ -109,10 +109,22 @@ def slerp(
     tk = np.asarray(t_knots, dtype=float)
     qk = np.asarray(q, dtype=float)
     tq = np.asarray(t, dtype=float)
+    n = len(tq)
+    # The compiled passes index without bounds checks: shapes are checked here.
+    if tk.ndim != 1 or len(tk) < 2 or qk.shape != (len(tk), 4) or tq.ndim != 1:
+        raise ValueError(
+            "slerp: expected (K,) knot times with K ≥ 2, (K, 4) quaternions and (N,) "
+            f"times, got {tk.shape}, {qk.shape} and {tq.shape}"
+        )
     if below is None:
         below = np.searchsorted(tk, tq, side="right") - 1
     below = np.asarray(below, dtype=np.intp)
-    n = len(tq)
+    if below.shape != (n,):
+        raise ValueError(f"slerp: below must have shape ({n},), got {below.shape}")
+    if out is not None and (out.shape != (n, 4) or out.dtype.kind != "f"):
+        raise ValueError(
+            f"slerp: out must be a float array of shape ({n}, 4), got {out.dtype} {out.shape}"
+        )
     i, f, sign = np.empty(n, dtype=np.intp), np.empty(n), np.empty(n)
     angles = np.empty((3, n))  # rows: θ, (1 − f)θ, fθ; then their sines
     _slerp_setup(tk, qk, tq, below, i, f, sign, angles[0])

@@ -298,3 +298,21 @@ def test_quick_exit_only_after_a_clean_worker_close(closed, status):
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert done.returncode == status, done.stderr
     assert done.stdout == "unflushed output"
+
+
+def test_quick_exit_is_registered_on_our_own_cluster_only():
+    from distributed import LocalCluster
+
+    from indoorsim.dataset.driver import _client, _QuickExit
+
+    def plugins(dask_worker):
+        return sorted(dask_worker.plugins)
+
+    with _client(1, None) as client:
+        (names,) = client.run(plugins).values()
+        assert _QuickExit.name in names
+    # In-process workers of someone else's cluster: the hook would end this very process.
+    with LocalCluster(n_workers=1, processes=False, dashboard_address=None) as cluster:
+        with _client(None, cluster.scheduler_address) as client:
+            (names,) = client.run(plugins).values()
+            assert _QuickExit.name not in names

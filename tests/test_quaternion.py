@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from scipy.spatial.transform import Rotation, Slerp
 
 from indoorsim import quaternion as quat
@@ -54,6 +55,48 @@ def test_slerp_takes_the_interval_index_and_a_float32_output():
     assert quat.slerp(t, np.asfortranarray(q), tq, below=below, out=out) is out
     np.testing.assert_array_equal(out, want.astype(np.float32))
     np.testing.assert_allclose(np.linalg.norm(want, axis=1), 1.0, atol=1e-15)
+
+
+def _slerp_numpy(tk, qk, tq):
+    """The plain numpy slerp the compiled one replaced (its reference, bit for bit)."""
+    i = np.clip(np.searchsorted(tk, tq, side="right") - 1, 0, len(tk) - 2)
+    f = ((tq - tk[i]) / (tk[i + 1] - tk[i]))[:, None]
+    a, b = qk[i], qk[i + 1]
+    b = b * np.where(np.einsum("ij,ij->i", a, b) < 0, -1.0, 1.0)[:, None]
+    cos = np.clip(np.einsum("ij,ij->i", a, b), -1.0, 1.0)[:, None]
+    theta = np.arccos(cos)
+    sin = np.sin(theta)
+    small = sin < 1e-9
+    wa = np.where(small, 1.0 - f, np.sin((1.0 - f) * theta) / np.where(small, 1.0, sin))
+    wb = np.where(small, f, np.sin(f * theta) / np.where(small, 1.0, sin))
+    out = wa * a + wb * b
+    return out / np.linalg.norm(out, axis=1, keepdims=True)
+
+
+def test_slerp_equals_the_numpy_form_bit_for_bit():
+    # Random, nearly equal (the linear branch), sign-flipped and repeated knots,
+    # times outside the knots and on them. (Bit-identity rests on numpy summing
+    # a row of four as einsum and norm do here; a different numpy may differ
+    # in the last bit.)
+    rng = np.random.default_rng(12)
+    for k in (2, 3, 50):
+        t = np.cumsum(rng.uniform(0.01, 1.0, k))
+        q = _random(k, k).as_quat(scalar_first=True)
+        q[1::3] = q[0::3][: len(q[1::3])] + rng.normal(0, 1e-12, q[1::3].shape)
+        q[2::5] *= -1.0
+        tq = np.concatenate([rng.uniform(t[0] - 1, t[-1] + 1, 500), t])
+        np.testing.assert_array_equal(quat.slerp(t, q, tq), _slerp_numpy(t, q, tq))
+
+
+def test_slerp_refuses_arrays_of_the_wrong_shape():
+    t, q, tq = np.arange(3.0), _random(3, 1).as_quat(scalar_first=True), np.linspace(0, 2, 7)
+    for kwargs in ({"out": np.empty((6, 4))}, {"out": np.empty((7, 4), int)}, {"below": [0]}):
+        with pytest.raises(ValueError, match="slerp: "):
+            quat.slerp(t, q, tq, **kwargs)
+    with pytest.raises(ValueError, match="K ≥ 2"):
+        quat.slerp(t[:1], q[:1], tq)
+    with pytest.raises(ValueError, match="quaternions"):
+        quat.slerp(t, q[:, :3], tq)
 
 
 def test_rotate_broadcasts_and_inverts():

@@ -226,12 +226,16 @@ class _QuickExit(WorkerPlugin):
     finalisation (~0.3 s of module and LLVM teardown while the run waits for
     its cluster to close).
 
-    The exit hook is registered after every library's own, so it runs first
-    (atexit is last in, first out) — but only after the worker's close has
-    finished (its plugins torn down, its comms and services closed) and
-    multiprocessing's own exit handling has run; a worker that fails or is
-    killed exits the ordinary way. Not used on an existing cluster, whose
-    processes are not ours.
+    The hook runs at the process's exit, after the worker's close has finished
+    (plugins torn down, comms and services closed) and multiprocessing's own
+    exit handling has run. Registered after every library's exit handler, it
+    runs first (atexit is last in, first out) and skips them and the rest of
+    the finalisation: weakref finalizers, ``logging.shutdown`` (so a buffered
+    log handler would lose its last records: the workers log only to stderr,
+    flushed here), and the exit status of an error raised after the close
+    (the process exits 0; the close is done by then). A worker that never
+    closed cleanly (killed, crashed) exits the ordinary way. Not used on an
+    existing cluster, whose processes are not ours.
     """
 
     idempotent = True
@@ -273,7 +277,9 @@ def _client(workers: int | None, scheduler: str | None) -> Iterator[Client]:
         # came out of the shards' time.
         "distributed.admin.tick.interval": "1s",
         "distributed.admin.system-monitor.interval": "5s",
-        "distributed.worker.memory.monitor-interval": "1s",
+        # (The nanny's check that stops a worker past 95 % of its memory limit
+        # runs at this pace too; half a second still catches a runaway walk.)
+        "distributed.worker.memory.monitor-interval": "500ms",
     }
     with dask.config.set(local):
         with (

@@ -271,7 +271,8 @@ def _interpolate(t_src: NDArray[np.float64], t: NDArray[np.float64], below: NDAr
 
     def at(values: NDArray[np.float64], dtype: type = np.float64) -> NDArray:
         out = np.empty((len(t), *values.shape[1:]), dtype=dtype)
-        _lerp(values.reshape(len(values), -1), j, f, out.reshape(len(t), -1))
+        width = math.prod(values.shape[1:])  # not -1: t may be empty
+        _lerp(values.reshape(len(values), width), j, f, out.reshape(len(t), width))
         return out
 
     return at

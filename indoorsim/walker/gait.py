@@ -798,7 +798,7 @@ def _drop_short_legs(pts: NDArray[np.float64]) -> NDArray[np.float64]:
     """
     # Usually every leg is long enough (with a margin for rounding): then
     # nothing is dropped, and the loop below need not run.
-    if np.all(np.hypot(*np.diff(pts, axis=0).T) > _MIN_LEG_M * (1.0 + 1e-9)):
+    if len(pts) >= 2 and np.all(np.hypot(*np.diff(pts, axis=0).T) > _MIN_LEG_M * (1.0 + 1e-9)):
         return pts.copy()
     keep = [0]
     for i in range(1, len(pts) - 1):

@@ -181,6 +181,11 @@ def _nearest_on_edges(
                 out[i, 1] = qy
 
 
+# Most entries (edge listings) or cells a nearest-edge grid may hold before its
+# cells grow (FloorPlan._edge_grid): a few tens of MB.
+_EDGE_GRID_BUDGET = 2_000_000
+
+
 def _as_points(x: ArrayLike, name: str) -> NDArray[np.float64]:
     arr = np.asarray(x, dtype=float)
     if arr.ndim == 1 and arr.shape[0] in (2, 3):
@@ -307,24 +312,32 @@ class FloorPlan:
     def _edge_grid(
         self, max_distance: float
     ) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.float64]]:
-        """Cells of side ``max_distance``/4 (at least 0.125 m) listing the edges within
-        ``max_distance`` of each, in ascending order; built once per distance.
+        """Cells listing the edges within ``max_distance`` of each, in ascending
+        order; built once per distance.
 
-        Small cells keep each point's candidates few: a cell's edges come from a
-        square of side cell + 2·max_distance around it.
+        Cells of side ``max_distance``/4 (at least 0.125 m) keep each point's
+        candidates few. Each edge is listed in every cell of its bounding box
+        grown by ``max_distance``, so long diagonal walls fill many small
+        cells: where the grid would pass :data:`_EDGE_GRID_BUDGET` entries or
+        cells, the cells double (up to ``max_distance``, at least 0.25 m).
+        Any cell size finds the same nearest edges.
         """
         cache = self.__dict__.setdefault("_edge_grids", {})
         if max_distance not in cache:
             ab = self.walkable_edges
-            cell = max(max_distance / 4.0, 0.125)
-            lo = ab.reshape(-1, 2).min(axis=0) - max_distance
-            n = np.floor((ab.reshape(-1, 2).max(axis=0) + max_distance - lo) / cell).astype(int) + 1
-            # Every cell whose square the edge's box, grown by max_distance,
-            # overlaps: the cells of each edge's block, all edges at once.
-            box_lo = np.floor((ab.min(axis=1) - max_distance - lo) / cell).astype(int)
-            box_hi = np.floor((ab.max(axis=1) + max_distance - lo) / cell).astype(int)
-            width = box_hi - box_lo + 1
-            count = width[:, 0] * width[:, 1]
+            ends = ab.reshape(-1, 2)
+            for cell in (max_distance / 4.0, max_distance / 2.0, max_distance):
+                cell = max(cell, 0.25 if cell == max_distance else 0.125)
+                lo = ends.min(axis=0) - max_distance
+                n = np.floor((ends.max(axis=0) + max_distance - lo) / cell).astype(int) + 1
+                # Every cell whose square the edge's box, grown by max_distance, overlaps.
+                box_lo = np.floor((ab.min(axis=1) - max_distance - lo) / cell).astype(int)
+                box_hi = np.floor((ab.max(axis=1) + max_distance - lo) / cell).astype(int)
+                width = box_hi - box_lo + 1
+                count = width[:, 0] * width[:, 1]
+                if max(count.sum(), n[0] * n[1]) <= _EDGE_GRID_BUDGET:
+                    break
+            # The cells of each edge's block, all edges at once.
             owners = np.repeat(np.arange(len(ab)), count)
             k = np.arange(len(owners)) - np.repeat(np.cumsum(count) - count, count)
             gx = box_lo[owners, 0] + k % width[owners, 0]
