@@ -118,6 +118,19 @@ def test_single_point_broadcasts_and_bad_shapes_are_named():
         plan.is_walkable(np.zeros((3, 4)))
 
 
+def test_nearest_boundary_is_the_same_when_the_grid_must_use_larger_cells(monkeypatch):
+    # A plan whose grid would pass its budget (long diagonal walls fill many
+    # small cells) takes larger cells; any cell size finds the same points.
+    pts = np.random.default_rng(6).uniform(-0.5, 10.5, (2000, 2))
+    fine = _two_rooms().nearest_boundary(pts, 0.8)
+    monkeypatch.setattr("indoorsim.world.plan._EDGE_GRID_BUDGET", 2000)
+    plan = _two_rooms()
+    coarse = plan.nearest_boundary(pts, 0.8)
+    (grid,) = [g for _, _, g in plan._edge_grids.values()]
+    assert grid[2] > 1.0 / 4  # the cells grew (0.8 m is served by the 1 m grid)
+    np.testing.assert_array_equal(coarse, fine)
+
+
 def test_rooms_are_the_closed_faces_of_the_wall_graph():
     plan = _two_rooms()
     assert len(plan.rooms) == 2
