@@ -269,8 +269,9 @@ def carry(
         which[i0 : i0 + k] = np.where(w < 0.5, j - 1, j)
     # Sized by the longest name in use, as a string array built from the names would be.
     used = np.flatnonzero(np.bincount(which, minlength=len(entries)))
-    names = np.empty(len(entries), dtype=np.array([entries[j][1].name for j in used]).dtype)
-    names[used] = [entries[j][1].name for j in used]
+    used_names = [entries[j][1].name for j in used]
+    names = np.empty(len(entries), dtype=np.array(used_names).dtype)
+    names[used] = used_names
     # ``which`` is a few long runs: filling each costs less than indexing per sample.
     cuts = [0, *(np.flatnonzero(which[1:] != which[:-1]) + 1).tolist(), n]
     mode = np.empty(n, dtype=names.dtype)

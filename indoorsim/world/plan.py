@@ -326,9 +326,9 @@ class FloorPlan:
         if max_distance not in cache:
             ab = self.walkable_edges
             ends = ab.reshape(-1, 2)
+            lo = ends.min(axis=0) - max_distance
             for cell in (max_distance / 4.0, max_distance / 2.0, max_distance):
                 cell = max(cell, 0.25 if cell == max_distance else 0.125)
-                lo = ends.min(axis=0) - max_distance
                 n = np.floor((ends.max(axis=0) + max_distance - lo) / cell).astype(int) + 1
                 # Every cell whose square the edge's box, grown by max_distance, overlaps.
                 box_lo = np.floor((ab.min(axis=1) - max_distance - lo) / cell).astype(int)
