@@ -2,7 +2,7 @@
 
 For each Chen2022 site (the survey route, walked by a Nexus 5X) and carrying
 mode, both estimators are fitted on two training walks and then timed over
-one whole test episode through :func:`indoorsim.evaluation.run_episode` —
+one whole test episode through :func:`indoorsim.benchmark.evaluation.run_episode` —
 windowing, gait dead reckoning, HV-DDTW and MD-DTW matching, and the filter
 with 1000 particles — best of ``REPEATS``. Printed per row: the walk's
 duration, the episode's run time, the real-time factor (walk seconds per
@@ -22,14 +22,14 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 import indoorsim
-from indoorsim.estimators.base import make
-from indoorsim.evaluation import (
+from indoorsim.benchmark.evaluation import (
     run_episode,
     site_context,
     start_info,
     training_walks,
     true_positions_at,
 )
+from indoorsim.estimators.base import make
 from indoorsim.simulate import simulate
 
 SITES = {"chen2022_lab": "survey_loop", "chen2022_office": "corridor"}

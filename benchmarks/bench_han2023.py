@@ -34,6 +34,7 @@ import torch
 from numpy.typing import NDArray
 
 import indoorsim
+from indoorsim.benchmark.evaluation import run_episode, site_context, start_info, training_walks
 from indoorsim.estimators.nn import (
     BPNetwork,
     MinMaxScaler,
@@ -43,7 +44,6 @@ from indoorsim.estimators.nn import (
 )
 from indoorsim.estimators.optim import ASO, Objective
 from indoorsim.estimators.pipelines.han2023 import Han2023Fusion
-from indoorsim.evaluation import run_episode, site_context, start_info, training_walks
 from indoorsim.simulate import simulate
 
 SCENARIO, DEVICE = "han2023_corridor", "nexus_5x"

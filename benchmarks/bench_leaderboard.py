@@ -15,8 +15,8 @@ import time
 from threadpoolctl import threadpool_limits
 
 import indoorsim
-from indoorsim.evaluation import TRAIN_SEED, site_context
-from indoorsim.leaderboard import BASELINES, MODES, evaluate
+from indoorsim.benchmark.evaluation import TRAIN_SEED, evaluate, site_context
+from indoorsim.benchmark.leaderboard import BASELINES, MODES
 from indoorsim.simulate import simulate
 
 SCENARIO, SEEDS, N_TRAIN = "han2023_corridor", (0, 1, 2), 2

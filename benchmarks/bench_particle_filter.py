@@ -40,7 +40,7 @@ from indoorsim.estimators.filters import (
     ParticleFilter,
     gaussian_likelihood,
 )
-from indoorsim.world.generate import generate
+from indoorsim.scenario.generate import generate
 from indoorsim.world.plan import FloorPlan
 
 N_PARTICLES, STEP_M, STEP_RATE_HZ, REPEATS = 1000, 0.6, 2.0, 5

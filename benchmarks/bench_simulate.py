@@ -45,11 +45,11 @@ import indoorsim
 from indoorsim.phone.devices import get_device
 from indoorsim.phone.kinematics import IdealImu
 from indoorsim.scenario import RouteSpec
+from indoorsim.scenario.generate import generate
 from indoorsim.simulate import PATH_FIELD_ERROR_UT, simulate
 from indoorsim.walker.carry import carry
 from indoorsim.walker.gait import WalkerParams, walk
 from indoorsim.walker.route import plan_route
-from indoorsim.world.generate import generate
 from indoorsim.world.light import MIN_DISTANCE_M, direct_illuminance
 
 TARGET_S = 600.0

@@ -42,8 +42,8 @@ import numpy as np
 import pandas as pd
 
 import indoorsim
+from indoorsim import Recording
 from indoorsim.dataset import DatasetConfig, build_dataset
-from indoorsim.recording import Recording
 from indoorsim.scenario import bundled_scenarios
 from indoorsim.simulate import simulate
 from indoorsim.survey import grid_survey, walk_survey

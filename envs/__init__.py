@@ -32,7 +32,7 @@ import re
 
 import gymnasium
 
-from indoorsim.scenario import bundled_scenarios
+from indoorsim.scenario.load import bundled_scenarios
 
 __all__ = ["ENTRY_POINT", "ENV_IDS", "VERSION", "env_id"]
 

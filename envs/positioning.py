@@ -5,7 +5,7 @@ one walk through a scenario's building (:func:`indoorsim.simulate.simulate`),
 cuts its sensor streams into observation windows
 (:class:`indoorsim.windows.Windower`) and scores the agent's position
 estimate at the end of every window against the exact truth, exactly as
-:func:`indoorsim.evaluation.run_episode` does for the benchmark runner.
+:func:`indoorsim.benchmark.evaluation.run_episode` does for the benchmark runner.
 """
 
 from __future__ import annotations
@@ -24,12 +24,16 @@ from matplotlib.lines import Line2D
 from matplotlib.text import Text
 from numpy.typing import NDArray
 
-from indoorsim import load_site
+from indoorsim.benchmark.evaluation import (
+    site_context,
+    start_info,
+    true_positions_at,
+    window_samples,
+)
 from indoorsim.estimators.base import SiteContext
-from indoorsim.evaluation import site_context, start_info, true_positions_at, window_samples
 from indoorsim.phone.devices import get_device
 from indoorsim.plots import draw_plan
-from indoorsim.scenario import resolve_scenario
+from indoorsim.scenario.load import load_site, resolve_scenario
 from indoorsim.simulate import ModeSchedule, simulate
 from indoorsim.walker.carry import available_modes
 from indoorsim.windows import Observation, Windower, observation_space
@@ -64,7 +68,7 @@ def _site_for(scenario: str | os.PathLike[str]) -> Site:
     """The Site of a bundled name or YAML path, shared by every env of this process.
 
     Sharing one Site object matters beyond load time: the survey cache of
-    :func:`indoorsim.evaluation.site_context` is keyed by the Site, so envs on
+    :func:`indoorsim.benchmark.evaluation.site_context` is keyed by the Site, so envs on
     the same building survey it once.
     """
     path = resolve_scenario(scenario).resolve()
@@ -153,7 +157,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
     It is built on first use (the surveys take a few seconds) and shared by
     every environment of the process with the same site and phones.
 
-    An episode is the same as :func:`indoorsim.evaluation.run_episode` with
+    An episode is the same as :func:`indoorsim.benchmark.evaluation.run_episode` with
     the same scenario, route, mode, device and seed: the same windows, scored
     at the same times against the same truth.
 

@@ -36,8 +36,8 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import NDArray
 
-from indoorsim.fingerprints import FingerprintDB
-from indoorsim.recording import Recording
+from indoorsim.io.fingerprints import FingerprintDB
+from indoorsim.io.recording import Recording
 from indoorsim.windows import PRESENT_ORDER, Observation
 
 __all__ = [

@@ -32,7 +32,7 @@ from indoorsim.estimators.base import (
 from indoorsim.estimators.fingerprint import WKNN
 from indoorsim.estimators.frames import geomagnetic_mean
 from indoorsim.estimators.pdr import WEINBERG_K, GyroHeading, PeakStepDetector, weinberg
-from indoorsim.recording import Recording
+from indoorsim.io.recording import Recording
 
 __all__ = ["PdrBasic", "StartOnly", "WknnMag"]
 

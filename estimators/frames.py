@@ -16,7 +16,7 @@ from collections.abc import Mapping
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from indoorsim import quaternion
+from indoorsim.util import quaternion
 from indoorsim.windows import PRESENT_ORDER
 
 __all__ = ["heading_from_rotation", "to_world", "wrap_angle", "yaw_rate"]

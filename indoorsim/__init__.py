@@ -5,26 +5,45 @@ Quick start::
     import indoorsim
     site = indoorsim.load_site("minimal_room")      # a bundled name or a YAML path
     site.magnetic_field([[1.0, 2.0, 1.2]])          # (1, 3) µT
+
+The names below are the package's door: each is imported from its module on
+first use, so ``import indoorsim`` stays light (the command line starts fast)
+and loads no layer it does not need. Modules that moved in 0.2 keep their old
+import paths (:mod:`indoorsim._moved`).
 """
 
 from __future__ import annotations
 
-from pathlib import Path
-from typing import TYPE_CHECKING
+import importlib
+from typing import TYPE_CHECKING, Any
 
-from indoorsim.scenario import (
-    Scenario,
-    ScenarioError,
-    dump_scenario,
-    load_scenario,
-    resolve_scenario,
-)
+from indoorsim import _moved
+from indoorsim._version import __version__
 
 if TYPE_CHECKING:
+    from indoorsim.io.fingerprints import FingerprintDB
+    from indoorsim.io.recording import Recording
+    from indoorsim.scenario.load import dump_scenario, load_scenario, load_site, resolve_scenario
+    from indoorsim.scenario.schema import Scenario, ScenarioError
     from indoorsim.world.site import Site
 
-__version__ = "0.1.0"
+_moved.install()
+
+_EXPORTS = {
+    "FingerprintDB": "indoorsim.io.fingerprints",
+    "Recording": "indoorsim.io.recording",
+    "Scenario": "indoorsim.scenario.schema",
+    "ScenarioError": "indoorsim.scenario.schema",
+    "Site": "indoorsim.world.site",
+    "dump_scenario": "indoorsim.scenario.load",
+    "load_scenario": "indoorsim.scenario.load",
+    "load_site": "indoorsim.scenario.load",
+    "resolve_scenario": "indoorsim.scenario.load",
+}
+
 __all__ = [
+    "FingerprintDB",
+    "Recording",
     "Scenario",
     "ScenarioError",
     "Site",
@@ -32,21 +51,16 @@ __all__ = [
     "dump_scenario",
     "load_scenario",
     "load_site",
+    "resolve_scenario",
 ]
 
 
-def load_site(name_or_path: str | Path | Scenario) -> Site:
-    """Load a bundled scenario by name, a scenario YAML file, or a :class:`Scenario` into a Site."""
-    from indoorsim.world.site import Site
-
-    if isinstance(name_or_path, Scenario):
-        return Site(name_or_path)
-    return Site(load_scenario(resolve_scenario(name_or_path)))
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'indoorsim' has no attribute {name!r}")
+    return getattr(importlib.import_module(module), name)
 
 
-def __getattr__(name: str) -> object:
-    if name == "Site":
-        from indoorsim.world.site import Site
-
-        return Site
-    raise AttributeError(f"module 'indoorsim' has no attribute {name!r}")
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_EXPORTS})

@@ -33,6 +33,7 @@ import pandas as pd
 import pyarrow as pa
 from numpy.typing import NDArray
 
+from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import DeviceProfile, get_device
 from indoorsim.phone.fused import fuse
 from indoorsim.phone.kinematics import IdealImu, normal_gravity
@@ -44,9 +45,8 @@ from indoorsim.phone.sensors import (
     scan_rss,
     wifi_scans,
 )
-from indoorsim.recording import Recording
-from indoorsim.scenario import RouteSpec
-from indoorsim.seeding import WALK, named_streams
+from indoorsim.scenario.schema import RouteSpec
+from indoorsim.util.seeding import WALK, named_streams
 from indoorsim.walker.carry import PhoneTrajectory, carry
 from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
 from indoorsim.walker.route import Route, plan_route

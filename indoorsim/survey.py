@@ -32,7 +32,7 @@ import pandas as pd
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from indoorsim.fingerprints import FingerprintDB
+from indoorsim.io.fingerprints import FingerprintDB
 from indoorsim.phone.devices import DeviceProfile, get_device
 from indoorsim.phone.fused import fuse
 from indoorsim.phone.kinematics import normal_gravity
@@ -46,8 +46,8 @@ from indoorsim.phone.sensors import (
     scan_rss,
     wifi_scans,
 )
-from indoorsim.scenario import GridSurveySpec, WalkSurveySpec
-from indoorsim.seeding import SURVEY, named_streams
+from indoorsim.scenario.schema import GridSurveySpec, WalkSurveySpec
+from indoorsim.util.seeding import SURVEY, named_streams
 from indoorsim.world.site import Site
 
 # Child streams of a survey's SeedSequence, by name (append only).

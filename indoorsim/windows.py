@@ -51,7 +51,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from indoorsim.recording import Recording
+from indoorsim.io.recording import Recording
 
 NO_SIGNAL_DBM = -110.0
 MAX_AGE_S = 3600.0

@@ -1,13 +1,24 @@
-"""Shared fixtures: paths to the shared folder and small scenarios built in Python."""
+"""Shared fixtures: paths to the shared folder and small scenarios built in Python.
+
+Folders outside the repository come from the environment, with this
+project's development layout (``../shared`` beside the repository) as default:
+``$INDOORSIM_SHARED`` for the shared examples, ``$INDOORSIM_REALDATA`` for the
+real recordings (as :func:`indoorsim.util.provenance.realdata_dir` reads it).
+Tests that need them skip, saying which folder is missing, when they are absent.
+"""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
 
+from indoorsim.util.provenance import realdata_dir
+
 REPO = Path(__file__).resolve().parents[1]
-SHARED = REPO.parent / "shared"
+SHARED = Path(os.environ.get("INDOORSIM_SHARED") or REPO.parent / "shared")
+REALDATA = realdata_dir()
 MINIMAL_SITE = SHARED / "examples" / "minimal-site.yaml"
 BUNDLED_MINIMAL = REPO / "scenarios" / "minimal_room.yaml"
 

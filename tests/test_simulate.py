@@ -7,9 +7,9 @@ import pytest
 from scipy.spatial.transform import Rotation, Slerp
 
 import indoorsim
+from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import get_device
 from indoorsim.phone.kinematics import normal_gravity
-from indoorsim.recording import Recording
 from indoorsim.scenario import RouteSpec
 from indoorsim.simulate import run_streams, sample_sensors, simulate
 from indoorsim.walker.carry import PhoneTrajectory

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import indoorsim
-from indoorsim.fingerprints import FingerprintDB
+from indoorsim.io.fingerprints import FingerprintDB
 from indoorsim.scenario import GridSurveySpec, WalkSurveySpec
 from indoorsim.survey import grid_points, grid_survey, walk_survey
 

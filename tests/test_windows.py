@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from indoorsim.recording import Recording
+from indoorsim.io.recording import Recording
 from indoorsim.windows import MAX_AGE_S, NO_SIGNAL_DBM, Windower, observation_space
 
 

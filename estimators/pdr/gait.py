@@ -83,7 +83,7 @@ Readings taken where the text is wrong or silent (PAPER_NOTES, Chen2022 item 1�
   (:class:`~indoorsim.estimators.pdr.heading.GyroHeading`).
 
 Frames: phone frame as Android's sensor frame; the attitude quaternion is
-world←phone, scalar first (w, x, y, z) as :mod:`indoorsim.quaternion`, with a
+world←phone, scalar first (w, x, y, z) as :mod:`indoorsim.util.quaternion`, with a
 local world frame whose z is up and whose yaw origin is arbitrary — only
 changes of yaw are used.
 """

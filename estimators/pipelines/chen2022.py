@@ -144,7 +144,7 @@ from indoorsim.estimators.fingerprint.sequences import (
 from indoorsim.estimators.frames import wrap_angle
 from indoorsim.estimators.pdr.gait import GaitDeadReckoning, GaitStep
 from indoorsim.estimators.pipelines.han2023 import match_steps
-from indoorsim.recording import Recording
+from indoorsim.io.recording import Recording
 from indoorsim.windows import Windower
 
 __all__ = [

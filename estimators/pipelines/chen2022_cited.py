@@ -147,7 +147,7 @@ from indoorsim.estimators.pipelines.chen2022 import (
     fix_variance_m2,
     replay_errors,
 )
-from indoorsim.recording import Recording
+from indoorsim.io.recording import Recording
 
 __all__ = [
     "AdaptiveParticleFilter",

@@ -77,7 +77,7 @@ from indoorsim.estimators.pdr import (
     mag_heading,
     weinberg,
 )
-from indoorsim.recording import Recording
+from indoorsim.io.recording import Recording
 from indoorsim.windows import Windower
 
 __all__ = [

@@ -77,7 +77,6 @@ import numpy as np
 import torch
 from numpy.typing import NDArray
 
-from indoorsim import quaternion
 from indoorsim.estimators.base import (
     Observation,
     SiteContext,
@@ -88,7 +87,8 @@ from indoorsim.estimators.base import (
 )
 from indoorsim.estimators.frames import to_world, wrap_angle
 from indoorsim.estimators.nn.inertial import Checkpoint, load_checkpoint
-from indoorsim.recording import Recording
+from indoorsim.io.recording import Recording
+from indoorsim.util import quaternion
 
 __all__ = ["LearnedIO"]
 

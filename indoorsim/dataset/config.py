@@ -21,11 +21,11 @@ from typing import Annotated, Any
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from indoorsim.scenario import key_path
+from indoorsim.scenario.schema import key_path
 
 __all__ = ["DatasetConfig", "DatasetConfigError", "Range", "WalkerRanges", "load_config"]
 
-# Generated kinds that make sense for long walks (every kind of world/generate.py).
+# Generated kinds that make sense for long walks (every kind of scenario/generate/).
 DEFAULT_KINDS = ("office", "basement", "l_corridor", "u_corridor", "open_hall")
 DEFAULT_MODES = ("handheld", "calling", "dangling", "pocketed")
 # Every built-in phone but ``ideal``: a training set should carry sensor errors.
@@ -192,9 +192,9 @@ class DatasetConfig(_Strict):
                 with the key and the valid names.
         """
         from indoorsim.phone.devices import available_devices
-        from indoorsim.scenario import bundled_scenarios
+        from indoorsim.scenario.generate import KINDS
+        from indoorsim.scenario.load import bundled_scenarios
         from indoorsim.walker.carry import available_modes
-        from indoorsim.world.generate import KINDS
 
         problems: list[tuple[str, str]] = []
         known_scenarios = list(bundled_scenarios())

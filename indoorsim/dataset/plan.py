@@ -35,7 +35,7 @@ from indoorsim.dataset.config import DatasetConfig
 
 __all__ = ["Plan", "ShardSpec", "SiteSpec", "WalkSpec", "make_plan", "split_sites"]
 
-# Seeding phase of the data-set plan, beside indoorsim.seeding's WALK = 0 and
+# Seeding phase of the data-set plan, beside indoorsim.util.seeding's WALK = 0 and
 # SURVEY = 1, so that no plan stream coincides with a walk's or a survey's.
 PLAN_PHASE = 2
 _SITES, _WALKS, _BUNDLED_ORDER = 0, 1, 2

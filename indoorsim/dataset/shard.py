@@ -57,13 +57,13 @@ import pyarrow.parquet as pq
 import shapely
 from numpy.typing import NDArray
 
-from indoorsim import quaternion as quat_ops
 from indoorsim.dataset.config import DatasetConfig
 from indoorsim.dataset.plan import ShardSpec, SiteSpec, WalkSpec
 from indoorsim.dataset.schema import COLUMNS, FORMAT_VERSION, arrow_schema
+from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import DeviceProfile, get_device
-from indoorsim.recording import Recording
-from indoorsim.scenario import RouteSpec
+from indoorsim.scenario.schema import RouteSpec
+from indoorsim.util import quaternion as quat_ops
 from indoorsim.walker.route import Route, RouteError, plan_route
 from indoorsim.windows import Windower, columns_array, hold_index
 from indoorsim.world.site import Site
@@ -98,8 +98,8 @@ _ROUTE_MARGIN = 1.1
 @functools.lru_cache(maxsize=4)
 def _site(spec: SiteSpec) -> Site:
     """The site of a plan entry; kept for the next shard of the same site on this worker."""
-    from indoorsim import load_site
-    from indoorsim.world.generate import generate
+    from indoorsim.scenario.generate import generate
+    from indoorsim.scenario.load import load_site
 
     if spec.source == "bundled":
         return load_site(spec.id)

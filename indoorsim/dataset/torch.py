@@ -75,12 +75,12 @@ import torch
 from numpy.typing import NDArray
 from torch.utils.data import Dataset, IterableDataset, get_worker_info
 
-from indoorsim import quaternion as quat_ops
 from indoorsim.dataset.card import CARD_JSON, SPLIT_FRACTIONS
 from indoorsim.dataset.config import DEFAULT_MODES
 from indoorsim.dataset.plan import split_sites
 from indoorsim.dataset.schema import COLUMNS
 from indoorsim.dataset.shard import SHARDS_DIR
+from indoorsim.util import quaternion as quat_ops
 
 __all__ = ["FRAMES", "WindowDataset", "WindowStream", "site_split"]
 

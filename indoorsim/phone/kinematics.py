@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
 from scipy.spatial.transform import Rotation
 
-from indoorsim import quaternion as quat_ops
+from indoorsim.util import quaternion as quat_ops
 
 
 def normal_gravity(latitude_deg: float) -> float:
@@ -116,7 +116,7 @@ class IdealImu:
 
 # ----------------------------------------------------------------- compiled kernels
 # One pass each over a long trajectory, where the numpy forms make a dozen
-# temporaries (rotations of vectors: indoorsim.quaternion.rotate).
+# temporaries (rotations of vectors: indoorsim.util.quaternion.rotate).
 
 
 @numba.njit(cache=True, error_model="numpy")

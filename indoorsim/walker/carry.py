@@ -56,7 +56,7 @@ from scipy.ndimage import gaussian_filter1d
 from scipy.signal import butter, oaconvolve, sosfilt, sosfilt_zi
 from scipy.spatial.transform import Rotation
 
-from indoorsim import quaternion as quat_ops
+from indoorsim.util import quaternion as quat_ops
 from indoorsim.walker.gait import (
     PELVIS_HEIGHT_RATIO,
     BodyTrajectory,

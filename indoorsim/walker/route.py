@@ -39,7 +39,7 @@ from shapely.geometry.polygon import orient
 from shapely.ops import nearest_points
 
 if TYPE_CHECKING:
-    from indoorsim.scenario import RouteSpec
+    from indoorsim.scenario.schema import RouteSpec
     from indoorsim.world.plan import FloorPlan
 
 __all__ = ["Route", "RouteError", "plan_route"]

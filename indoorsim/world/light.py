@@ -40,7 +40,7 @@ from shapely.geometry import LineString, Point, Polygon
 from indoorsim.world.plan import crosses_properly, near_walls
 
 if TYPE_CHECKING:
-    from indoorsim.scenario import ReflectanceSpec, Scenario, WallSpec, WindowSpec
+    from indoorsim.scenario.schema import ReflectanceSpec, Scenario, WallSpec, WindowSpec
     from indoorsim.world.plan import FloorPlan
 
 __all__ = ["LightModel", "PointSources", "RoomAmbient", "direct_illuminance", "window_patches"]

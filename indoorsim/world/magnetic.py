@@ -73,7 +73,7 @@ from scipy.ndimage import maximum_filter1d
 from shapely.geometry import Polygon
 
 if TYPE_CHECKING:
-    from indoorsim.scenario import Scenario
+    from indoorsim.scenario.schema import Scenario
     from indoorsim.world.plan import FloorPlan
 
 MU0_OVER_4PI = 1e-7  # T·m/A

@@ -13,9 +13,6 @@ element: opaque walls 0, clear glazing about 0.8 (a normal float-glass pane).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
-
-MaterialName = Literal["concrete", "brick", "drywall", "glass", "wood", "metal", "metal_door"]
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -34,7 +34,7 @@ from shapely.ops import polygonize, unary_union
 from indoorsim.world.materials import MATERIALS, Material
 
 if TYPE_CHECKING:
-    from indoorsim.scenario import ObstacleSpec, PillarSpec, Scenario, WallSpec
+    from indoorsim.scenario.schema import ObstacleSpec, PillarSpec, Scenario, WallSpec
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -221,7 +221,7 @@ class FloorPlan:
             for poly, p in zip(pillar_shapes, scenario.pillars, strict=True)
         ]
         self.obstacles: list[Polygon] = _rectangles(scenario.obstacles)
-        self.solid = unary_union(_wall_polygons(self.walls) + pillar_shapes + self.obstacles)
+        self.solid = unary_union(wall_polygons(self.walls) + pillar_shapes + self.obstacles)
         self.walkable = self.outline.difference(self.solid)
         shapely.prepare(self.walkable)
         shapely.prepare(self.solid)
@@ -480,7 +480,7 @@ def _outline(scenario: Scenario, faces: list[Polygon] | None = None) -> Polygon:
     return Polygon(merged.exterior)
 
 
-def _wall_polygons(walls: Sequence[Wall]) -> list[Polygon]:
+def wall_polygons(walls: Sequence[Wall]) -> list[Polygon]:
     """``[w.polygon() for w in walls]``, the arithmetic vectorised over the walls."""
     if not walls:
         return []
@@ -511,7 +511,7 @@ def _rectangles(specs: Sequence[PillarSpec | ObstacleSpec]) -> list[Polygon]:
 def near_walls(points: ArrayLike, walls: Sequence[WallSpec]) -> NDArray[np.bool_]:
     """(N, n_walls) whether each point lies in each wall's bounding box grown by half
     its thickness plus 1 mm: necessary for a point to be on the wall (within half
-    its thickness of the centre line, as :func:`_door_on_wall` tests), so only
+    its thickness of the centre line, as :func:`door_on_wall` tests), so only
     these pairs need that test."""
     p = np.asarray(points, dtype=float).reshape(-1, 1, 2)
     a = np.array([w.start for w in walls], dtype=float)
@@ -528,7 +528,7 @@ def _cut_doors(scenario: Scenario) -> list[Wall]:
     for door, candidates in zip(scenario.doors, near, strict=True):
         for i in np.flatnonzero(candidates).tolist():
             spec = scenario.walls[i]
-            t = _door_on_wall(door.position, spec.start, spec.to, spec.thickness)
+            t = door_on_wall(door.position, spec.start, spec.to, spec.thickness)
             if t is not None:
                 gaps[i].append((t - door.width / 2, t + door.width / 2))
     walls: list[Wall] = []
@@ -565,7 +565,7 @@ def _cut_doors(scenario: Scenario) -> list[Wall]:
     return walls
 
 
-def _door_on_wall(
+def door_on_wall(
     position: Sequence[float], a: Sequence[float], b: Sequence[float], thickness: float
 ) -> float | None:
     """Distance along wall a→b of the door's projection, or None if the door is not on it."""
@@ -577,105 +577,3 @@ def _door_on_wall(
         return None
     off = abs(d[0] * (p[1] - a_[1]) - d[1] * (p[0] - a_[0])) / length
     return t if off <= thickness / 2 + 1e-6 else None
-
-
-def _points(xy: Sequence[Sequence[float]]) -> NDArray[np.object_]:
-    """Shapely points of (N, 2) coordinates (N may be 0)."""
-    return shapely.points(np.array(xy, dtype=float).reshape(-1, 2))
-
-
-def geometry_problems(scenario: Scenario) -> list[tuple[str, str]]:
-    """Geometric sanity checks of a schema-valid scenario, as (key path, message)."""
-    problems: list[tuple[str, str]] = []
-    if scenario.outline is not None and not Polygon(scenario.outline).is_valid:
-        problems.append(("outline", "polygon is self-intersecting or degenerate"))
-        return problems
-    walls = scenario.walls
-    near = near_walls([door.position for door in scenario.doors], walls)
-    for i, door in enumerate(scenario.doors):
-        if not any(
-            _door_on_wall(door.position, walls[j].start, walls[j].to, walls[j].thickness)
-            is not None
-            for j in np.flatnonzero(near[i]).tolist()
-        ):
-            problems.append((f"doors[{i}].position", f"{list(door.position)} is not on any wall"))
-    near = near_walls([win.start for win in scenario.windows], walls) & near_walls(
-        [win.to for win in scenario.windows], walls
-    )
-    for i, win in enumerate(scenario.windows):
-        on = [
-            j
-            for j in np.flatnonzero(near[i]).tolist()
-            if _door_on_wall(win.start, walls[j].start, walls[j].to, walls[j].thickness) is not None
-            and _door_on_wall(win.to, walls[j].start, walls[j].to, walls[j].thickness) is not None
-        ]
-        if not on:
-            problems.append((f"windows[{i}]", "both ends must lie on the same wall"))
-        if win.head > scenario.site.ceiling_height:
-            problems.append((f"windows[{i}].head", "window head is above the ceiling"))
-    for i, door in enumerate(scenario.doors):
-        if door.height > scenario.site.ceiling_height:
-            problems.append((f"doors[{i}].height", "door is taller than the ceiling"))
-    plan = plan_for(scenario)
-    if plan.outline.is_empty or plan.outline.area <= 0:
-        problems.append(("walls", "the walls enclose no area: close them or give an 'outline'"))
-        return problems
-    h = scenario.site.ceiling_height
-    outline = plan.outline
-    shapely.prepare(outline)
-    # Walls and pillars, of which only those within a hair of a luminaire can
-    # hold it: the union is built only if there are any.
-    wall_parts = np.array(_wall_polygons(plan.walls) + [p for p, _ in plan.pillars], dtype=object)
-    lum_points = _points([lum.position[:2] for lum in scenario.luminaires])
-    in_outline = shapely.covers(outline, lum_points)
-    near = shapely.STRtree(wall_parts).query(lum_points, predicate="dwithin", distance=1e-6)
-    close = set(near[0].tolist())
-    wall_solid = unary_union(list(wall_parts)) if close else Polygon()
-    for i, lum in enumerate(scenario.luminaires):
-        x, y, z = lum.position
-        if not in_outline[i]:
-            problems.append((f"luminaires[{i}].position", f"{[x, y, z]} is outside the building"))
-        elif i in close and wall_solid.contains(lum_points[i]):
-            problems.append(
-                (f"luminaires[{i}].position", f"{[x, y, z]} is inside a wall or pillar")
-            )
-        if not 0 < z <= h + 1e-9:
-            problems.append(
-                (f"luminaires[{i}].position", f"height {z} m is not within the room (0, {h}]")
-            )
-    inside = shapely.covers(outline, _points([p.center for p in scenario.pillars]))
-    for i, p in enumerate(scenario.pillars):
-        if not inside[i]:
-            problems.append((f"pillars[{i}].center", f"{list(p.center)} is outside the building"))
-    inside = shapely.covers(outline, _points([o.center for o in scenario.obstacles]))
-    for i, o in enumerate(scenario.obstacles):
-        if not inside[i]:
-            problems.append((f"obstacles[{i}].center", f"{list(o.center)} is outside the building"))
-    for name, survey in scenario.surveys.items():
-        region = getattr(survey, "region", None)
-        if region is None:
-            continue
-        poly = Polygon(region)
-        if not poly.is_valid:
-            problems.append(
-                (f"surveys.{name}.region", "polygon is self-intersecting or degenerate")
-            )
-        elif poly.intersection(plan.walkable).area <= 0:
-            problems.append((f"surveys.{name}.region", "does not overlap the walkable area"))
-    for name, route in scenario.routes.items():
-        pts = np.array(route.points(), dtype=float)
-        ok = plan.is_walkable(pts)
-        key = "waypoints" if route.waypoints is not None else None
-        for j in np.flatnonzero(~ok):
-            where = f"routes.{name}.{key}[{j}]" if key else f"routes.{name}.{('start', 'goal')[j]}"
-            problems.append((where, f"{pts[j].tolist()} is not in the walkable area"))
-        if key and ok.all():
-            blocked = plan.crosses_wall(pts[:-1], pts[1:])
-            for j in np.flatnonzero(blocked):
-                problems.append(
-                    (
-                        f"routes.{name}.waypoints[{j}]",
-                        f"the leg {pts[j].tolist()} → {pts[j + 1].tolist()} passes through a wall",
-                    )
-                )
-    return problems

@@ -39,7 +39,7 @@ import scipy.fft
 from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
-    from indoorsim.scenario import Scenario
+    from indoorsim.scenario.schema import Scenario
     from indoorsim.world.plan import FloorPlan
 
 __all__ = ["RadioModel", "ShadowingField", "free_space_loss_1m_db", "shadowing_rng"]

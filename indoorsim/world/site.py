@@ -17,7 +17,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from indoorsim.scenario import Scenario
+from indoorsim.scenario.schema import Scenario
 from indoorsim.world.light import LightModel
 from indoorsim.world.magnetic import MagneticModel
 from indoorsim.world.plan import plan_for
@@ -87,3 +87,4 @@ def _finite_rows(values: ArrayLike, name: str) -> NDArray[np.float64]:
         row = int(np.argmin(finite))
         raise ValueError(f"{name}: row {row} is not finite: {a[row].tolist()}")
     return a
+

@@ -24,9 +24,9 @@ from gymnasium.vector import AsyncVectorEnv, SyncVectorEnv
 import indoorsim
 import indoorsim.envs
 import indoorsim.envs.positioning
+from indoorsim.benchmark.evaluation import run_episode, start_info, true_positions_at
 from indoorsim.envs.positioning import IndoorPositioningEnv
 from indoorsim.estimators.base import SiteContext, StartInfo
-from indoorsim.evaluation import run_episode, start_info, true_positions_at
 from indoorsim.scenario import bundled_scenarios
 from indoorsim.simulate import simulate
 from indoorsim.windows import Observation

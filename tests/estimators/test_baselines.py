@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import ast
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -11,6 +10,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import indoorsim
+from indoorsim.benchmark.evaluation import run_episode, site_context, start_info, true_positions_at
 from indoorsim.estimators.base import (
     Estimator,
     NotApplicableError,
@@ -20,20 +20,20 @@ from indoorsim.estimators.base import (
     available,
     make,
 )
-from indoorsim.evaluation import run_episode, site_context, start_info, true_positions_at
-from indoorsim.fingerprints import FingerprintDB
-from indoorsim.recording import Recording
+from indoorsim.io.fingerprints import FingerprintDB
+from indoorsim.io.recording import Recording
 from indoorsim.simulate import simulate
 from indoorsim.windows import PRESENT_ORDER
+from tests.conftest import REPO
 
 BASELINES = ["start-only", "pdr-basic", "wknn-mag"]
-ESTIMATORS_DIR = Path(__file__).resolve().parents[2] / "estimators"
+ESTIMATORS_DIR = REPO / "estimators"
 FORBIDDEN = (
     "indoorsim.world",
     "indoorsim.walker",
     "indoorsim.phone",
     "indoorsim.simulate",
-    "indoorsim.evaluation",
+    "indoorsim.benchmark.evaluation",
 )
 
 
@@ -240,7 +240,7 @@ from indoorsim import walker
 def late():
     from indoorsim.world.site import Site
     from ...simulate import simulate
-    importlib.import_module("indoorsim.evaluation")
+    importlib.import_module("indoorsim.benchmark.evaluation")
 """
     found = forbidden(imported_modules(source, "indoorsim.estimators.pdr.steps"))
     assert found == {
@@ -250,7 +250,7 @@ def late():
         "indoorsim.world.site.Site",
         "indoorsim.simulate",
         "indoorsim.simulate.simulate",
-        "indoorsim.evaluation",
+        "indoorsim.benchmark.evaluation",
     }
 
 

@@ -67,7 +67,7 @@ def test_normal_gravity_at_equator_and_pole():
 
 
 def test_compiled_attitude_kernels_match_the_quaternion_helpers():
-    from indoorsim import quaternion as quat_ops
+    from indoorsim.util import quaternion as quat_ops
 
     rng = np.random.default_rng(6)
     t = np.cumsum(rng.uniform(0.004, 0.006, 3000))

@@ -139,7 +139,7 @@ def test_phone_stays_inside_and_its_pose_is_continuous(l_plan, l_body, schedule)
 
 
 def test_phone_stays_inside_on_generated_office_routes():
-    from indoorsim.world import generate
+    from indoorsim.scenario import generate
 
     scenario = generate.generate("office", seed=5)
     plan = FloorPlan(scenario)

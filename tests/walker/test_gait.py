@@ -118,7 +118,7 @@ def test_walker_keeps_its_distance_from_a_wall_the_route_hugs(corridor):
 
 
 def test_random_routes_in_generated_buildings_stay_inside_and_within_the_yaw_limit():
-    from indoorsim.world import generate
+    from indoorsim.scenario import generate
 
     rng = np.random.default_rng(0)
     params = WalkerParams(stop_rate_per_min=2.0)
@@ -141,7 +141,7 @@ def test_random_routes_in_generated_buildings_stay_inside_and_within_the_yaw_lim
 
 
 def test_generated_office_routes_are_walked_inside_the_walls():
-    from indoorsim.world import generate
+    from indoorsim.scenario import generate
 
     scenario = generate.generate("office", seed=5)
     plan = FloorPlan(scenario)

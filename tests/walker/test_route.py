@@ -132,7 +132,7 @@ def test_unwalkable_goal_is_named(l_plan):
 
 
 def test_generated_office_routes_are_walkable():
-    from indoorsim.world import generate
+    from indoorsim.scenario import generate
 
     scenario = generate.generate("office", seed=3)
     plan = FloorPlan(scenario)

@@ -24,10 +24,11 @@ from indoorsim.scenario import (
     resolve_scenario,
 )
 from indoorsim.world.plan import FloorPlan
+from tests.conftest import REPO, SHARED
 
-SCENARIOS = Path(__file__).parents[2] / "scenarios"
+SCENARIOS = REPO / "scenarios"
 BUNDLED = sorted(SCENARIOS.glob("*.yaml"))
-SHARED_MINIMAL = Path(__file__).parents[2].parent / "shared/examples/minimal-site.yaml"
+SHARED_MINIMAL = SHARED / "examples/minimal-site.yaml"
 EXPECTED = {
     "minimal_room",
     "han2023_basement",

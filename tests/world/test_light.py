@@ -353,7 +353,7 @@ def test_kernel_with_its_shortcuts_equals_the_per_source_sum(layout):
     # element shadows them all, and tests only the elements spanning each
     # receiver's direction: both exact, so the sums agree to rounding.
     import indoorsim
-    from indoorsim.world.generate import generate
+    from indoorsim.scenario.generate import generate
 
     site = indoorsim.load_site(generate("office", seed=2))
     rng = np.random.default_rng(4)

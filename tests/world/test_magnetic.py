@@ -175,7 +175,7 @@ def _bands():
 @pytest.fixture(scope="module")
 def office():
     import indoorsim
-    from indoorsim.world.generate import generate
+    from indoorsim.scenario.generate import generate
 
     return indoorsim.load_site(generate("office", seed=5))
 

@@ -1,0 +1,467 @@
+"""The evaluation protocol: what an estimator is given, and how it is scored.
+
+For a scenario and a seed (DESIGN §8–§10):
+
+1. **Site context** — the floor plan and the fingerprint databases of every
+   survey plan in the scenario, measured with the *survey* phone
+   (:func:`site_context`), plus the site's frames.
+2. **Training walks** — labelled recordings on the scenario's other routes
+   (or the same route with other seeds when it has only one), walked with the
+   walking phone (:func:`training_walks`).
+3. **Test episodes** — one simulated walk per test seed; the estimator is
+   reset with the start position and heading (:func:`start_info`) and then
+   acts on each observation window in turn (:func:`run_episode`). Truth is
+   read only to score an action after it has been taken.
+
+The same episode loop runs on real recordings, scored wherever they carry
+true positions (:func:`true_positions_at`).
+
+:func:`evaluate` scores one estimator on one scenario and carrying mode over
+several seeds (per-walk estimates beside the truth, and metrics);
+:func:`evaluate_recording` does the same for a real recording, scored where it
+carries true positions. :func:`check_estimator` checks a plug-in against the
+protocol.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from indoorsim._version import __version__
+from indoorsim.benchmark import metrics
+from indoorsim.envs import env_id
+from indoorsim.estimators.base import (
+    Estimator,
+    NotApplicableError,
+    SiteContext,
+    StartInfo,
+    make,
+)
+from indoorsim.io.fingerprints import FingerprintDB
+from indoorsim.io.recording import Recording
+from indoorsim.scenario.load import load_site
+from indoorsim.scenario.schema import GridSurveySpec, WalkSurveySpec
+from indoorsim.simulate import ModeSchedule, simulate
+from indoorsim.survey import grid_survey, walk_survey
+from indoorsim.util.provenance import git_revision
+from indoorsim.windows import Windower
+from indoorsim.world.site import Site
+
+# Seeds of the offline phase and of training walks lie beyond the range test
+# seeds are drawn from (a Gymnasium env draws below 2**31), so they never repeat one.
+SURVEY_SEED = 2**40
+TRAIN_SEED = 2**41
+
+
+def window_samples(imu_rate_hz: float, window_s: float) -> int:
+    """IMU samples in a window of ``window_s`` seconds."""
+    return max(1, round(imu_rate_hz * window_s))
+
+
+@functools.lru_cache(maxsize=32)
+def _surveys(site: Site, survey_device: str, seed: int) -> tuple[tuple[str, FingerprintDB], ...]:
+    out = []
+    for name, spec in site.scenario.surveys.items():
+        if isinstance(spec, GridSurveySpec):
+            out.append((name, grid_survey(site, spec, device=survey_device, seed=seed)))
+        elif isinstance(spec, WalkSurveySpec):
+            out.append((name, walk_survey(site, spec, device=survey_device, seed=seed)))
+    return tuple(out)
+
+
+def site_context(
+    site: Site,
+    *,
+    device: str,
+    survey_device: str = "honor_50",
+    window_s: float = 1.0,
+    survey_seed: int = SURVEY_SEED,
+) -> SiteContext:
+    """The public knowledge of ``site`` for a walking ``device`` (surveys cached per process)."""
+    from indoorsim.phone.devices import get_device
+
+    imu_rate = get_device(device).accel.rate_hz
+    sc = site.scenario.site
+    return SiteContext(
+        name=site.name,
+        plan=site.plan,
+        # Copies: the surveys are cached, and an estimator may edit its tables.
+        fingerprints={name: db.copy() for name, db in _surveys(site, survey_device, survey_seed)},
+        bssids=tuple(site.radio.bssids),
+        building_north_deg=sc.north_deg,
+        magnetic_declination_deg=site.magnetic_declination_deg,
+        device=device,
+        imu_rate_hz=imu_rate,
+        window_samples=window_samples(imu_rate, window_s),
+        extra={"survey_device": survey_device, "ceiling_height": sc.ceiling_height},
+    )
+
+
+def training_walks(
+    site: Site,
+    test_route: str,
+    *,
+    mode: ModeSchedule,
+    device: str,
+    n: int = 2,
+    seed: int = TRAIN_SEED,
+) -> list[Recording]:
+    """Labelled walks for training: the scenario's other routes, else other seeds of the same."""
+    others = [r for r in site.scenario.routes if r != test_route] or [test_route]
+    return [
+        simulate(site, route=others[k % len(others)], mode=mode, device=device, seed=seed + k)
+        for k in range(n)
+    ]
+
+
+def start_info(recording: Recording, seed: int = 0) -> StartInfo:
+    """The start position and heading an episode reveals (truth at the first sample).
+
+    Real recordings without a dense truth start at their first waypoint, heading
+    toward the second (DESIGN §8, issue: real data through the same loop).
+    """
+    t0 = float(recording.accel.index[0])
+    if recording.has_truth:
+        truth = recording.truth
+        return StartInfo(
+            position=np.array([truth["x"].iloc[0], truth["y"].iloc[0]]),
+            heading=float(truth["heading"].iloc[0]),
+            seed=seed,
+            t0=t0,
+        )
+    wp = recording.true_positions()
+    xy = wp[["x", "y"]].to_numpy()
+    if len(xy) < 2:
+        raise ValueError("a recording without truth needs at least two waypoints to start from")
+    d = xy[1] - xy[0]
+    return StartInfo(position=xy[0].copy(), heading=float(np.arctan2(d[1], d[0])), seed=seed, t0=t0)
+
+
+def true_positions_at(recording: Recording, t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(N, 2) true phone positions at times t (linear interpolation of the truth stream)."""
+    truth = recording.truth
+    ts = truth.index.to_numpy(dtype=float)
+    return np.column_stack([np.interp(t, ts, truth[c].to_numpy(dtype=float)) for c in ("x", "y")])
+
+
+def true_headings_at(recording: Recording, t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(N,) true walking direction at times t, rad (interpolated on the unwrapped angle)."""
+    truth = recording.truth
+    ts = truth.index.to_numpy(dtype=float)
+    unwrapped = np.unwrap(truth["heading"].to_numpy(dtype=float))
+    return np.angle(np.exp(1j * np.interp(t, ts, unwrapped)))
+
+
+@dataclass(frozen=True, kw_only=True)
+class EpisodeResult:
+    """One episode: per window, the time, the estimate and the latency of ``act``.
+
+    ``heading`` (rad, NaN where the estimator exposes none) and ``step_count``
+    (None if it exposes none) come from the estimator's optional attributes.
+    """
+
+    t: NDArray[np.float64]
+    estimate: NDArray[np.float64]
+    latency_s: NDArray[np.float64]
+    heading: NDArray[np.float64]
+    step_count: int | None = None
+    t_start: float = 0.0
+    """Time of the episode's first sensor sample, s."""
+
+    def frame(self) -> pd.DataFrame:
+        x, y = self.estimate.T
+        return pd.DataFrame({"t": self.t, "x": x, "y": y, "latency_s": self.latency_s})
+
+
+def run_episode(
+    estimator: Estimator, recording: Recording, context: SiteContext, start: StartInfo
+) -> EpisodeResult:
+    """Reset ``estimator`` and feed it every observation window of ``recording`` in order."""
+    windows = Windower(recording, context.window_samples, context.bssids)
+    estimator.reset(start)
+    n = len(windows)
+    t = np.empty(n)
+    est = np.empty((n, 2))
+    lat = np.empty(n)
+    heading = np.full(n, np.nan)
+    for k in range(n):
+        obs = windows.window(k)
+        t0 = time.perf_counter()
+        action = np.asarray(estimator.act(obs), dtype=float)
+        lat[k] = time.perf_counter() - t0
+        if action.shape != (2,) or not np.isfinite(action).all():
+            name = getattr(estimator, "name", estimator)
+            raise ValueError(
+                f"estimator {name!r} returned {action!r} at window {k}; "
+                "expected a finite (x, y) array of shape (2,)"
+            )
+        est[k] = action
+        t[k] = windows.end_time(k)
+        h = getattr(estimator, "heading", None)
+        if h is not None:
+            heading[k] = float(h)
+    steps = getattr(estimator, "step_count", None)
+    return EpisodeResult(
+        t_start=float(windows.t[0]),
+        t=t,
+        estimate=est,
+        latency_s=lat,
+        heading=heading,
+        step_count=None if steps is None else int(steps),
+    )
+
+
+def fit_timed(estimator: Estimator, context: SiteContext, train: Sequence[Recording]) -> float:
+    """Fit and return the training time in seconds."""
+    t0 = time.perf_counter()
+    estimator.fit(context, train)
+    return time.perf_counter() - t0
+
+
+# ------------------------------------------------------------------ evaluate
+
+Progress = Callable[[str], None]
+
+
+@dataclass(kw_only=True)
+class WalkResult:
+    """One scored walk: estimates beside the truth, and its metrics."""
+
+    seed: int
+    estimates: pd.DataFrame  # t, x, y, true_x, true_y
+    metrics: dict[str, float]
+
+
+@dataclass(kw_only=True)
+class Evaluation:
+    """An estimator on one scenario × mode over several seeds."""
+
+    estimator: str
+    scenario: str
+    mode: str
+    config: dict[str, Any]
+    walks: list[WalkResult] = field(default_factory=list)
+    note: str = ""
+    """Why the estimator did not run here (it needs data the site lacks), else empty."""
+
+    def row(self) -> dict[str, Any]:
+        """The leaderboard row: aggregate metrics and provenance (NaN metrics when not run)."""
+        if self.walks:
+            agg = metrics.aggregate([w.metrics for w in self.walks])
+        else:
+            agg = {"seeds": 0} | {
+                k: np.nan for key in metrics.SUMMARY_KEYS for k in (key, f"{key}_std")
+            }
+        return {
+            "scenario": self.scenario,
+            "mode": self.mode,
+            "estimator": self.estimator,
+            **agg,
+            "note": self.note,
+            **self.config,
+        }
+
+
+def _score(
+    result: EpisodeResult, rec: Recording, *, plan: Any, train_time_s: float
+) -> dict[str, float]:
+    """Metrics of one simulated walk; heading and step count when the estimator exposes them."""
+    truth_xy = true_positions_at(rec, result.t)
+    extra: dict[str, Any] = {}
+    has_heading = np.isfinite(result.heading)
+    if has_heading.any():
+        extra["est_heading"] = np.degrees(result.heading[has_heading])
+        extra["true_heading"] = np.degrees(true_headings_at(rec, result.t[has_heading]))
+    if result.step_count is not None:
+        in_episode = (rec.steps.index >= result.t_start) & (rec.steps.index <= result.t[-1])
+        extra["n_steps_est"] = result.step_count
+        extra["n_steps_true"] = int(in_episode.sum())
+    return metrics.summarize(
+        result.estimate,
+        truth_xy,
+        plan=plan,
+        latencies=result.latency_s,
+        train_time_s=train_time_s,
+        **extra,
+    )
+
+
+def evaluate(
+    estimator: str,
+    scenario: str | Site,
+    *,
+    mode: str = "handheld",
+    seeds: Sequence[int] = (0, 1, 2),
+    route: str | None = None,
+    device: str = "nexus_5x",
+    survey_device: str = "honor_50",
+    window_s: float = 1.0,
+    n_train: int = 2,
+    params: dict[str, Any] | None = None,
+    progress: Progress | None = None,
+) -> Evaluation:
+    """Score ``estimator`` (a registered name or ``module:Class``) over ``seeds``.
+
+    ``params`` go to the estimator's constructor.
+    """
+    from indoorsim.walker.carry import available_modes
+
+    site = scenario if isinstance(scenario, Site) else load_site(scenario)
+    route = route or next(iter(site.scenario.routes))
+    if route not in site.scenario.routes:
+        raise ValueError(
+            f"route {route!r}: {site.name} has routes {', '.join(site.scenario.routes)}"
+        )
+    if mode not in available_modes():
+        raise ValueError(f"mode {mode!r}: carrying modes are {', '.join(available_modes())}")
+    ctx = site_context(site, device=device, survey_device=survey_device, window_s=window_s)
+    est = make(estimator, **(params or {}))
+    train = training_walks(site, route, mode=mode, device=device, n=n_train)
+    config = {
+        "env_id": env_id(site.name),
+        "route": route,
+        "device": device,
+        "survey_device": survey_device,
+        "window_s": window_s,
+        "n_train": n_train,
+        "params": json.dumps(params or {}, sort_keys=True),
+        "package_version": __version__,
+        "git_revision": git_revision(),
+    }
+    ev = Evaluation(estimator=estimator, scenario=site.name, mode=mode, config=config)
+    try:
+        train_s = fit_timed(est, ctx, train)
+    except NotApplicableError as err:
+        ev.note = str(err)
+        return ev
+    for seed in seeds:
+        if progress:
+            progress(f"{site.name} {mode} {estimator} seed {seed}")
+        rec = simulate(site, route=route, mode=mode, device=device, seed=seed)
+        res = run_episode(est, rec, ctx, start_info(rec, seed))
+        truth_xy = true_positions_at(rec, res.t)
+        frame = res.frame().drop(columns="latency_s")
+        frame["true_x"], frame["true_y"] = truth_xy[:, 0], truth_xy[:, 1]
+        score = _score(res, rec, plan=site.plan, train_time_s=train_s)
+        ev.walks.append(WalkResult(seed=seed, estimates=frame, metrics=score))
+    return ev
+
+
+def evaluate_recording(
+    estimator: str,
+    recording: Recording,
+    *,
+    window_s: float = 1.0,
+    params: dict[str, Any] | None = None,
+) -> WalkResult:
+    """Run ``estimator`` on a real recording and score it at the recording's true positions.
+
+    The site context of a real log has no floor plan or surveys: the estimator
+    gets the start (first waypoint, heading toward the second) and the
+    recording's own WiFi APs. Estimates are linearly interpolated to the
+    waypoint times for scoring. ``params`` go to the estimator's constructor.
+    """
+    rate = 1.0 / float(np.median(np.diff(recording.accel.index.to_numpy(dtype=float))))
+    bssids = tuple(sorted(set(recording.wifi["bssid"]))) if "wifi" in recording.streams else ()
+    site = recording.meta.get("site")
+    ctx = SiteContext(
+        name=str(site.get("site_name", "real")) if isinstance(site, dict) else "real",
+        bssids=bssids,
+        device=str(recording.meta.get("device", "")),
+        imu_rate_hz=rate,
+        window_samples=max(1, round(rate * window_s)),
+    )
+    est = make(estimator, **(params or {}))
+    est.fit(ctx, [])  # NotApplicableError propagates: a real log has no surveys or plan
+    res = run_episode(est, recording, ctx, start_info(recording))
+    truth = recording.true_positions()
+    t_true = truth.index.to_numpy(dtype=float)
+    keep = (t_true >= res.t[0]) & (t_true <= res.t[-1])
+    t_true = t_true[keep]
+    est_at = np.column_stack([np.interp(t_true, res.t, res.estimate[:, i]) for i in range(2)])
+    true_xy = truth[["x", "y"]].to_numpy(dtype=float)[keep]
+    frame = pd.DataFrame(
+        {
+            "t": t_true,
+            "x": est_at[:, 0],
+            "y": est_at[:, 1],
+            "true_x": true_xy[:, 0],
+            "true_y": true_xy[:, 1],
+        }
+    )
+    return WalkResult(
+        seed=0, estimates=frame, metrics=metrics.summarize(est_at, true_xy, latencies=res.latency_s)
+    )
+
+
+# ------------------------------------------------------------------ contract
+
+
+class EstimatorContractError(AssertionError):
+    """An estimator that breaks the protocol, with what it did wrong."""
+
+
+@functools.lru_cache(maxsize=1)
+def _check_site() -> Site:
+    """The minimal room with a short grid survey and a walk survey: every input kind, quickly."""
+    base = load_site("minimal_room").scenario
+    surveys = {
+        "grid": GridSurveySpec(kind="grid", spacing=1.2, duration_s=3.0),
+        "walk": WalkSurveySpec(kind="walk", route="main", reference_spacing=3.0, wifi_dwell_s=5.0),
+    }
+    return Site(base.model_copy(update={"surveys": surveys}))
+
+
+def check_estimator(estimator: Estimator | str) -> None:
+    """Check that ``estimator`` honours the protocol on a small simulated site.
+
+    The checks: a ``name`` string; ``fit`` accepts the site context and
+    labelled walks; after ``reset`` every ``act`` returns a finite (2,) array;
+    the same episode twice gives the same estimates (deterministic given the
+    episode seed); it copes with a window whose slow sensors are absent
+    (``present`` flags zero) — a real log without light or WiFi.
+
+    Raises:
+        EstimatorContractError: naming the broken rule.
+    """
+    est = make(estimator) if isinstance(estimator, str) else estimator
+    label = getattr(est, "name", None)
+    if not isinstance(label, str) or not label:
+        raise EstimatorContractError(f"{est!r} has no non-empty 'name' string")
+    site = _check_site()
+    route = "main"
+    ctx = site_context(site, device="mid_grade", survey_device="honor_50", window_s=0.5)
+    try:
+        est.fit(ctx, training_walks(site, route, mode="handheld", device="mid_grade", n=1))
+    except Exception as err:
+        raise EstimatorContractError(f"{label}: fit failed: {err!r}") from err
+    rec = simulate(site, route=route, mode="handheld", device="mid_grade", seed=7)
+    runs = []
+    for _ in range(2):
+        try:
+            runs.append(run_episode(est, rec, ctx, start_info(rec, seed=7)).estimate)
+        except ValueError as err:  # run_episode's own check names the window
+            raise EstimatorContractError(f"{label}: {err}") from err
+        except Exception as err:  # raised inside the estimator's reset or act
+            raise EstimatorContractError(f"{label}: the episode failed: {err!r}") from err
+    if not np.array_equal(runs[0], runs[1]):
+        raise EstimatorContractError(f"{label}: the same episode twice gave different estimates")
+    bare = Recording(
+        streams={k: v for k, v in rec.streams.items() if k in ("accel", "gyro", "mag")},
+        meta=rec.meta,
+    )
+    try:
+        run_episode(est, bare, ctx, start_info(rec, seed=7))
+    except Exception as err:
+        raise EstimatorContractError(
+            f"{label}: failed on a recording with only accel, gyro and mag: {err!r}"
+        ) from err

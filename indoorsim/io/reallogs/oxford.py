@@ -1,0 +1,220 @@
+"""The Oxford step-counter data set: optimisation folders and validation files."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from indoorsim.io.reallogs.common import (
+    XYZ,
+    PathLike,
+    carry_mode,
+    median_rates_hz,
+    ticks_to_seconds,
+    time_frame,
+)
+from indoorsim.io.recording import Recording, RecordingError
+
+
+def _step_rows(t: NDArray[np.float64], extra: dict[str, ArrayLike] | None = None) -> pd.DataFrame:
+    """A ``steps`` stream for steps whose foot and length the log does not know."""
+    n = len(t)
+    columns: dict[str, ArrayLike] = {
+        "foot": np.full(n, None, dtype=object),
+        "length": np.full(n, np.nan),
+    }
+    return time_frame(t, columns | (extra or {}))
+
+
+def read_oxford_folder(path: PathLike) -> Recording:
+    """Read an Oxford step-counter optimisation folder ``<Phone>_<User>_<Surface>_<Position>_<n>``.
+
+    Mapping:
+
+    * ``accelerometer.csv`` (no header: ``SensorEvent.timestamp`` ns, accuracy
+      flag, x, y, z m/s² with gravity) → ``accel``; the accuracy flag (always 3)
+      is dropped.
+    * ``stepcounter.csv`` (no header: timestamp ns on the same clock, then the
+      binary states of the two channels of the ground-truth device) → ``steps``,
+      one row per 0→1 transition on either channel, as upstream's ``stats.js``
+      counts them (a channel that starts at 1 is not a step). ``foot`` is
+      missing and ``length`` NaN: that the channels are the two feet is a
+      reading, not documented upstream; the channel (1 or 2) is kept in column
+      ``channel``.
+    * ``metadata.txt`` (some folders) → ``meta["sensors"]["accel"]["name"]``.
+    * The folder name → ``meta`` ``device`` (phone), ``user``, ``surface``,
+      ``position`` and ``trial``; ``mode`` from the position (``InHand`` →
+      handheld, ``FrontPocket``/``BackPocket`` → pocketed, ``SwingingArm`` →
+      dangling, others as given).
+
+    ``t`` = (ns − first accelerometer ns)/1e9 (a clock since boot;
+    ``meta["t0_boot_ns"]``). ``meta["ground_truth_steps"]`` is the step count and
+    ``meta["channel_steps"]`` the count per channel.
+    """
+    folder = Path(path)
+    accel = pd.read_csv(
+        folder / "accelerometer.csv",
+        header=None,
+        names=["ns", "accuracy", "x", "y", "z"],
+        dtype={
+            "ns": np.int64,
+            "accuracy": np.int64,
+            "x": np.float64,
+            "y": np.float64,
+            "z": np.float64,
+        },
+    )
+    if accel.empty:
+        raise RecordingError(f"{folder / 'accelerometer.csv'}: no rows")
+    ticks = accel["ns"].to_numpy()
+    t0 = int(ticks.min())
+    streams = {
+        "accel": time_frame(
+            ticks_to_seconds(ticks, t0, 1e9), {c: accel[c].to_numpy() for c in XYZ}
+        ),
+    }
+    counter = pd.read_csv(
+        folder / "stepcounter.csv",
+        header=None,
+        names=["ns", "channel_1", "channel_2"],
+        dtype=np.int64,
+    )
+    step_t, step_channel, per_channel = [], [], []
+    state_t = ticks_to_seconds(counter["ns"].to_numpy(), t0, 1e9)
+    for channel in (1, 2):
+        state = counter[f"channel_{channel}"].to_numpy()
+        rises = np.flatnonzero((state[1:] == 1) & (state[:-1] == 0)) + 1
+        step_t.append(state_t[rises])
+        step_channel.append(np.full(len(rises), channel, dtype=np.int64))
+        per_channel.append(len(rises))
+    streams["steps"] = _step_rows(np.concatenate(step_t), {"channel": np.concatenate(step_channel)})
+
+    meta: dict[str, Any] = {"source": {"format": "oxford-stepcounter", "folder": folder.name}}
+    parts = folder.name.split("_")
+    if len(parts) == 5:
+        phone, user, surface, position, trial = parts
+        meta |= {
+            "device": phone,
+            "user": user,
+            "surface": surface,
+            "position": position,
+            "trial": int(trial) if trial.isdigit() else trial,
+            "mode": carry_mode(position),
+        }
+    else:
+        meta |= {"device": None, "mode": None}
+    sensor_file = folder / "metadata.txt"
+    if sensor_file.is_file():
+        for line in sensor_file.read_text(encoding="utf-8").splitlines():
+            key, _, value = line.partition(":")
+            if key.strip() == "accelerometer" and value.strip():
+                meta["sensors"] = {"accel": {"name": value.strip()}}
+    meta |= {
+        "t0_boot_ns": t0,
+        "frames": {"phone": "Android sensor frame (x right, y up the screen, z out of it)"},
+        "rates_hz": median_rates_hz(streams),
+        "ground_truth_steps": len(streams["steps"]),
+        "channel_steps": per_channel,
+        "dropped_rows": {},
+    }
+    return Recording(streams=streams, meta=meta)
+
+
+def looks_like_oxford_folder(path: Path) -> bool:
+    return (path / "accelerometer.csv").is_file() and (path / "stepcounter.csv").is_file()
+
+
+_VALIDATION_NAME = re.compile(r"^(?P<user>[^_]+)_(?P<position>[^_]+)_(?P<start_ms>\d+)$")
+
+
+def read_oxford_validation(path: PathLike) -> Recording:
+    """Read an Oxford step-counter validation file ``<user>_<position>_<unix-ms-start>.csv``.
+
+    Seven columns, no header (upstream ``validation/README.md``):
+
+    1. ``SensorEvent.timestamp``, ns since boot → ``t`` = (ns − first ns)/1e9;
+    2–4. acc x, y, z (m/s², gravity included) → ``accel``;
+    5. the app's own step algorithm, cumulative → dropped; its final count is
+       ``meta["app_algorithm_steps"]``;
+    6. the ground-truth device, cumulative → ``steps``: one row at each row
+       where it increases (k rows if it jumps by k); ``foot`` missing,
+       ``length`` NaN; the total is ``meta["ground_truth_steps"]``;
+    7. the phone's hardware step counter, cumulative → dropped; its final count
+       is ``meta["hardware_steps"]``, None when the column is all zero (not
+       recorded).
+
+    Leading rows whose three axes are exactly 0 are dropped (counted in
+    ``meta["dropped_rows"]``): a still phone cannot read zero specific force,
+    so such a first row is a placeholder written before the first sensor event.
+    The file name gives ``meta`` ``user``, ``position``, ``mode`` (``hand`` →
+    handheld, ``frontpocket``/``backpocket`` → pocketed, others as given) and
+    ``start_time_unix_ms``; the phone is a Samsung Galaxy S6 (upstream README).
+
+    Raises:
+        RecordingError: the ground-truth count decreases, or the file is empty.
+    """
+    source = Path(path)
+    data = np.loadtxt(source, delimiter=",", ndmin=2)
+    if data.shape[1] != 7 or len(data) == 0:
+        raise RecordingError(f"{source}: expected 7 comma-separated columns, got {data.shape}")
+    placeholder = np.all(data[:, 1:4] == 0.0, axis=1)
+    leading = int(np.argmin(placeholder)) if not placeholder.all() else len(data)
+    data = data[leading:]
+    if len(data) == 0:
+        raise RecordingError(f"{source}: every accelerometer row is zero")
+    # Timestamps (~1e12 ns since boot) are exact in float64, well below 2**53.
+    ticks = data[:, 0].astype(np.int64)
+    t0 = int(ticks.min())
+    t = ticks_to_seconds(ticks, t0, 1e9)
+    truth_count = data[:, 5].astype(np.int64)
+    increments = np.diff(truth_count, prepend=truth_count[0])
+    if (increments < 0).any():
+        row = int(np.argmax(increments < 0)) + leading
+        raise RecordingError(f"{source}: ground-truth step count decreases at row {row}")
+    streams = {
+        "accel": time_frame(t, {"x": data[:, 1], "y": data[:, 2], "z": data[:, 3]}),
+        "steps": _step_rows(np.repeat(t, increments)),
+    }
+    hardware = data[:, 6].astype(np.int64)
+    meta: dict[str, Any] = {
+        "source": {"format": "oxford-stepcounter-validation", "file": source.name},
+        "device": "Samsung Galaxy S6",
+        "mode": None,
+    }
+    match = _VALIDATION_NAME.match(source.stem)
+    if match:
+        meta |= {
+            "user": match["user"],
+            "position": match["position"],
+            "mode": carry_mode(match["position"]),
+            "start_time_unix_ms": int(match["start_ms"]),
+        }
+    meta |= {
+        "t0_boot_ns": t0,
+        "frames": {"phone": "Android sensor frame (x right, y up the screen, z out of it)"},
+        "rates_hz": median_rates_hz(streams),
+        "ground_truth_steps": int(increments.sum()),
+        "app_algorithm_steps": int(data[-1, 4] - data[0, 4]),
+        "hardware_steps": int(hardware[-1] - hardware[0]) if hardware.any() else None,
+        "dropped_rows": {"zero_accel_placeholder": leading} if leading else {},
+    }
+    return Recording(streams=streams, meta=meta)
+
+
+def looks_like_oxford_validation(path: Path) -> bool:
+    if not path.is_file() or path.suffix.lower() != ".csv":
+        return False
+    with path.open(encoding="utf-8", errors="replace") as lines:
+        fields = lines.readline().strip().split(",")
+    if len(fields) != 7:
+        return False
+    try:
+        [float(f) for f in fields]
+    except ValueError:
+        return False
+    return True

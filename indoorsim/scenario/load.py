@@ -1,0 +1,228 @@
+"""Scenario files: parse, load and dump YAML, and the bundled scenarios by name.
+
+Every error names the file, the dotted key path and the problem, and nothing is
+half-loaded: :func:`load_scenario` either returns a fully validated
+:class:`~indoorsim.scenario.schema.Scenario` (schema *and* geometry checked) or
+raises :class:`~indoorsim.scenario.schema.ScenarioError` listing every problem found.
+"""
+
+from __future__ import annotations
+
+import warnings
+from importlib import resources
+from importlib.metadata import entry_points
+from pathlib import Path
+from typing import Any
+
+import yaml
+from pydantic import ValidationError
+
+from indoorsim.scenario.checks import geometry_problems, reference_problems
+from indoorsim.scenario.schema import SURVEY_KINDS, Scenario, ScenarioError, key_path
+from indoorsim.world.site import Site
+
+__all__ = [
+    "ENTRY_POINT_GROUP",
+    "bundled_scenarios",
+    "dump_scenario",
+    "load_scenario",
+    "load_site",
+    "parse_scenario",
+    "resolve_scenario",
+    "scenario_to_dict",
+]
+
+
+def _pydantic_problems(err: ValidationError) -> list[tuple[str, str]]:
+    problems = []
+    for e in err.errors(include_url=False):
+        msg = e["msg"]
+        if msg.startswith("Value error, "):
+            msg = msg[len("Value error, ") :]
+        loc = list(e["loc"])
+        # Pydantic puts the survey's tag (its kind) into the path of a tagged
+        # union's errors: surveys.<name>.grid.spacing is the file's surveys.<name>.spacing.
+        if len(loc) >= 3 and loc[0] == "surveys" and loc[2] in SURVEY_KINDS:
+            del loc[2]
+        path = key_path(loc)
+        if e["type"] == "extra_forbidden":
+            msg = "unknown key"
+        problems.append((path, msg))
+    return problems
+
+
+def parse_scenario(
+    data: Any, source: str = "<scenario>", *, check_geometry: bool = True
+) -> Scenario:
+    """Validate a mapping (e.g. parsed YAML) into a :class:`Scenario`.
+
+    Args:
+        data: the parsed document.
+        source: label used in error messages (usually the file path).
+        check_geometry: also check the geometry (lights inside the building and
+            not inside walls, doors on walls, windows on walls, routes walkable).
+
+    Raises:
+        ScenarioError: listing every problem, each with its key path.
+    """
+    if not isinstance(data, dict):
+        raise ScenarioError(
+            source, [("", f"expected a mapping at the top level, got {type(data).__name__}")]
+        )
+    try:
+        scenario = Scenario.model_validate(data)
+    except ValidationError as err:
+        raise ScenarioError(source, _pydantic_problems(err)) from None
+    problems = reference_problems(scenario)
+    if check_geometry and not problems:
+        problems = geometry_problems(scenario)
+    if problems:
+        raise ScenarioError(source, problems)
+    return scenario
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Load and fully validate a scenario YAML file.
+
+    Raises:
+        ScenarioError: for a missing file, a YAML syntax error (with its line),
+            or any schema or geometry problem.
+    """
+    path = Path(path)
+    source = str(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as err:
+        raise ScenarioError(source, [("", f"cannot read file: {err.strerror or err}")]) from None
+    try:
+        data = _load_yaml(text)
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
+        problem = getattr(err, "problem", None) or str(err)
+        raise ScenarioError(source, [("", f"YAML syntax error at {where}{problem}")]) from None
+    return parse_scenario(data, source)
+
+
+# libyaml's parser when PyYAML was built with it: the same safe constructors, at
+# a fraction of the pure-Python parser's time.
+_FastSafeLoader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+def _load_yaml(text: str) -> Any:
+    """``yaml.safe_load(text)``, parsed by libyaml when available.
+
+    A document libyaml rejects is parsed again by the pure-Python parser, so
+    syntax errors are reported exactly as ``yaml.safe_load`` reports them.
+    """
+    try:
+        return yaml.load(text, Loader=_FastSafeLoader)
+    except yaml.YAMLError:
+        if _FastSafeLoader is yaml.SafeLoader:
+            raise
+        return yaml.safe_load(text)
+
+
+class _FlowListDumper(yaml.SafeDumper):
+    """Writes short lists of numbers inline (``[1.0, 2.0]``), as people write them."""
+
+
+def _represent_list(dumper: yaml.SafeDumper, data: list[Any]) -> yaml.Node:
+    flow = all(isinstance(v, int | float | str | bool) for v in data) or all(
+        isinstance(v, list) and all(isinstance(x, int | float) for x in v) for v in data
+    )
+    return dumper.represent_sequence("tag:yaml.org,2002:seq", data, flow_style=flow)
+
+
+_FlowListDumper.add_representer(list, _represent_list)
+
+
+def scenario_to_dict(scenario: Scenario) -> dict[str, Any]:
+    """The scenario as plain YAML-able data, keys as in files.
+
+    Defaults are written out too, so a saved scenario keeps its meaning even if
+    a later version changes a default.
+    """
+    return scenario.model_dump(mode="json", by_alias=True)
+
+
+def dump_scenario(scenario: Scenario, path: str | Path | None = None) -> str:
+    """Write ``scenario`` as YAML (to ``path`` when given) and return the text.
+
+    ``load_scenario(path) == scenario`` holds for every valid scenario.
+    """
+    text = yaml.dump(
+        scenario_to_dict(scenario), Dumper=_FlowListDumper, sort_keys=False, allow_unicode=True
+    )
+    if path is not None:
+        Path(path).write_text(text, encoding="utf-8")
+    return text
+
+
+# --------------------------------------------------------------------------- registry
+
+ENTRY_POINT_GROUP = "indoorsim.scenarios"
+"""Entry-point group through which other packages add scenarios: each entry
+point loads to a path (or a folder of ``*.yaml`` files)."""
+
+
+def bundled_scenarios() -> dict[str, Path]:
+    """Scenario names → YAML paths: the bundled ones, then any from entry points."""
+    names: dict[str, Path] = {}
+    folder = resources.files("indoorsim.scenarios")
+    for item in sorted(folder.iterdir(), key=lambda t: t.name):
+        if item.name.endswith(".yaml"):
+            names[item.name[: -len(".yaml")]] = Path(str(item))
+    for ep in entry_points(group=ENTRY_POINT_GROUP):
+        # A broken plugin must not take the bundled scenarios (and every
+        # environment id) down with it: it is reported and left out.
+        try:
+            target = Path(str(ep.load()))
+        except Exception as err:
+            warnings.warn(
+                f"scenario plug-in {ep.name!r} ({ep.value}) failed to load and is ignored: {err!r}",
+                stacklevel=2,
+            )
+            continue
+        found = (
+            {p.stem: p for p in sorted(target.glob("*.yaml"))}
+            if target.is_dir()
+            else {ep.name: target}
+        )
+        for name, path in found.items():
+            if name in names:  # a bundled name keeps its meaning everywhere; first plug-in wins
+                warnings.warn(
+                    f"scenario plug-in {ep.name!r}: {name!r} is already taken by "
+                    f"{names[name]}; {path} is ignored",
+                    stacklevel=2,
+                )
+                continue
+            names[name] = path
+    return names
+
+
+def resolve_scenario(name_or_path: str | Path) -> Path:
+    """The YAML path for a bundled scenario name, or ``name_or_path`` if it is a file.
+
+    Raises:
+        ScenarioError: neither a known name nor an existing file; lists the names.
+    """
+    known = bundled_scenarios()
+    if str(name_or_path) in known:
+        return known[str(name_or_path)]
+    path = Path(name_or_path)
+    if path.suffix in (".yaml", ".yml") or path.exists():
+        if not path.is_file():
+            raise ScenarioError(str(path), [("", "no such file")])
+        return path
+    raise ScenarioError(
+        str(name_or_path),
+        [("", f"unknown scenario; bundled scenarios are: {', '.join(known) or 'none'}")],
+    )
+
+
+def load_site(name_or_path: str | Path | Scenario) -> Site:
+    """Load a bundled scenario by name, a scenario YAML file, or a :class:`Scenario` into a Site."""
+    if isinstance(name_or_path, Scenario):
+        return Site(name_or_path)
+    return Site(load_scenario(resolve_scenario(name_or_path)))

@@ -1,0 +1,381 @@
+"""The scenario schema: pydantic specs of every key of a scenario file, and its errors.
+
+A scenario describes one building floor and what happens in it: walls, doors,
+windows, pillars, furniture, ceiling lights, steel, WiFi access points, named
+routes and survey plans. ``../shared/examples/minimal-site.yaml`` is the smallest
+complete one; its keys keep their meaning as the schema grows.
+
+Units: metres, degrees, cd, A·m², µT, dBm, m³. Frame: the building frame, x
+along the building's +x axis, y along its +y axis (``site.north_deg`` clockwise
+from true north), z up from the floor.
+
+This module is the bottom layer of the package (DESIGN §1): the world, walker
+and phone read these specs, and it imports none of them.
+"""
+
+from __future__ import annotations
+
+import datetime
+import math
+import re
+from collections.abc import Iterable, Sequence
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+__all__ = [
+    "DoorSpec",
+    "GridSurveySpec",
+    "LightSpec",
+    "LuminaireSpec",
+    "MagneticSpec",
+    "MaterialName",
+    "ObstacleSpec",
+    "PillarSpec",
+    "RadioSpec",
+    "RebarSpec",
+    "RoomSpec",
+    "RouteSpec",
+    "Scenario",
+    "ScenarioError",
+    "SiteSpec",
+    "WalkSurveySpec",
+    "WallSpec",
+    "WifiApSpec",
+    "WindowSpec",
+    "key_path",
+]
+
+MaterialName = Literal["concrete", "brick", "drywall", "glass", "wood", "metal", "metal_door"]
+"""The wall materials of :data:`indoorsim.world.materials.MATERIALS`."""
+
+
+class ScenarioError(ValueError):
+    """A scenario that cannot be loaded: every problem, each with its key path.
+
+    Attributes:
+        source: the file (or other label) the scenario came from.
+        problems: ``(key_path, message)`` pairs, e.g. ``("walls[2].thickness",
+            "must be > 0")``.
+    """
+
+    def __init__(self, source: str, problems: Sequence[tuple[str, str]]):
+        self.source = source
+        self.problems = list(problems)
+        lines = [
+            f"{source}: {path}: {msg}" if path else f"{source}: {msg}" for path, msg in problems
+        ]
+        head = f"invalid scenario ({len(lines)} problem{'s' if len(lines) != 1 else ''}):"
+        super().__init__("\n".join([head, *lines]) if len(lines) > 1 else lines[0])
+
+
+def key_path(loc: Iterable[Any]) -> str:
+    """A pydantic error location as the file's dotted key path (``walls[0].to``)."""
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += f".{part}" if out else str(part)
+    return out
+
+
+# --------------------------------------------------------------------------- schema
+
+FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
+PositiveFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+Vec2 = tuple[FiniteFloat, FiniteFloat]
+Vec3 = tuple[FiniteFloat, FiniteFloat, FiniteFloat]
+
+
+class _Spec(BaseModel):
+    """Base: unknown keys rejected, no NaN/inf, immutable, strict about types."""
+
+    model_config = ConfigDict(
+        extra="forbid", allow_inf_nan=False, frozen=True, populate_by_name=True
+    )
+
+
+IGRF_FIRST_DATE = datetime.date(1900, 1, 1)
+IGRF_END_DATE = datetime.date(2030, 1, 1)  # exclusive
+
+
+class SiteSpec(_Spec):
+    """Where the building stands and how it is oriented."""
+
+    latitude: Annotated[float, Field(ge=-90, le=90)]
+    longitude: Annotated[float, Field(ge=-180, le=180)]
+    date: datetime.date
+    north_deg: FiniteFloat = 0.0
+    """Direction of the building's +y axis, degrees clockwise from true north."""
+    ceiling_height: PositiveFloat
+    altitude_km: Annotated[float, Field(ge=-1, le=10)] = 0.0
+    earth_field_uT: Vec3 | None = None
+    """Earth field in the building frame, overriding IGRF when given."""
+
+    @model_validator(mode="after")
+    def _igrf_covers_the_date(self) -> SiteSpec:
+        # IGRF-14 is defined from 1900.0 to 2030.0; outside it ppigrf extrapolates
+        # (with a warning on stdout) a field that is not the Earth's.
+        if self.earth_field_uT is None and not IGRF_FIRST_DATE <= self.date < IGRF_END_DATE:
+            raise ValueError(
+                f"date {self.date} is outside the IGRF-14 model ({IGRF_FIRST_DATE} to "
+                f"{IGRF_END_DATE - datetime.timedelta(days=1)}): give 'earth_field_uT' for it"
+            )
+        return self
+
+
+class WallSpec(_Spec):
+    """A straight wall segment from floor to ceiling."""
+
+    start: Vec2 = Field(alias="from")
+    to: Vec2
+    thickness: PositiveFloat
+    material: MaterialName = "concrete"
+
+    @model_validator(mode="after")
+    def _non_degenerate(self) -> WallSpec:
+        if math.dist(self.start, self.to) < 1e-6:
+            raise ValueError("zero-length wall: 'from' and 'to' are the same point")
+        return self
+
+
+class DoorSpec(_Spec):
+    """An open doorway: a gap of ``width`` cut into the wall passing through ``position``."""
+
+    position: Vec2
+    width: PositiveFloat = 0.9
+    height: PositiveFloat = 2.1
+
+
+class WindowSpec(_Spec):
+    """Glazing in a wall between ``from`` and ``to``; lets daylight in when enabled."""
+
+    start: Vec2 = Field(alias="from")
+    to: Vec2
+    sill: NonNegFloat = 0.9
+    head: PositiveFloat = 2.1
+
+    @model_validator(mode="after")
+    def _valid(self) -> WindowSpec:
+        if math.dist(self.start, self.to) < 1e-6:
+            raise ValueError("zero-length window: 'from' and 'to' are the same point")
+        if self.head <= self.sill:
+            raise ValueError(f"window head {self.head} must be above its sill {self.sill}")
+        return self
+
+
+class RoomSpec(_Spec):
+    """A named area (office, corridor, hall): used for labels and plots."""
+
+    name: str
+    polygon: Annotated[list[Vec2], Field(min_length=3)]
+
+
+class PillarSpec(_Spec):
+    """A floor-to-ceiling column (rectangular), blocking walking, light and radio.
+
+    Its reinforcing steel (``steel_volume_m3``) becomes a vertical chain of
+    magnetic dipoles (see :class:`MagneticSpec`).
+    """
+
+    center: Vec2
+    size: tuple[PositiveFloat, PositiveFloat] = (0.6, 0.6)
+    rotation_deg: FiniteFloat = 0.0
+    material: MaterialName = "concrete"
+    steel_volume_m3: NonNegFloat = 0.015
+    """Reinforcing steel per storey; the column continues through the storeys
+    above and below, which carry the same amount."""
+
+
+class ObstacleSpec(_Spec):
+    """Furniture or equipment below ceiling height: blocks walking only.
+
+    Steel furniture (cabinets, shelves) carries ``steel_volume_m3`` of steel,
+    which becomes one magnetic dipole at half its height.
+    """
+
+    kind: Literal["desk", "cabinet", "shelf", "counter", "machine", "other"] = "other"
+    center: Vec2
+    size: tuple[PositiveFloat, PositiveFloat]
+    rotation_deg: FiniteFloat = 0.0
+    height: PositiveFloat = 0.75
+    steel_volume_m3: NonNegFloat = 0.0
+
+
+class LuminaireSpec(_Spec):
+    """A ceiling light with intensity I(θ) = intensity_cd · cosᵉˣᵖᵒⁿᵉⁿᵗ θ about its axis."""
+
+    position: Vec3
+    intensity_cd: NonNegFloat
+    exponent: NonNegFloat = 1.0
+    axis: Vec3 = (0.0, 0.0, -1.0)
+
+    @field_validator("axis")
+    @classmethod
+    def _unit_axis(cls, v: tuple[float, float, float]) -> tuple[float, float, float]:
+        if math.hypot(*v) < 1e-9:
+            raise ValueError("axis must be a non-zero vector")
+        return v
+
+
+class DaylightSpec(_Spec):
+    """Daylight through windows (off by default: the papers walked at night)."""
+
+    enabled: bool = False
+    exterior_vertical_lux: NonNegFloat = 10000.0
+    transmittance: Annotated[float, Field(ge=0, le=1)] = 0.7
+
+
+class ReflectanceSpec(_Spec):
+    ceiling: Annotated[float, Field(ge=0, lt=1)] = 0.8
+    walls: Annotated[float, Field(ge=0, lt=1)] = 0.5
+    floor: Annotated[float, Field(ge=0, lt=1)] = 0.3
+
+
+class LightSpec(_Spec):
+    """Light model options: inter-reflection (ambient) term and daylight."""
+
+    ambient: bool = True
+    reflectance: ReflectanceSpec = ReflectanceSpec()
+    daylight: DaylightSpec = DaylightSpec()
+
+
+class DipoleSpec(_Spec):
+    """A magnetic point dipole with a fixed moment in the building frame."""
+
+    position: Vec3
+    moment: Vec3
+
+
+class RebarSpec(_Spec):
+    """A reinforcing-steel mesh in a floor or ceiling slab, as a grid of dipoles."""
+
+    z: FiniteFloat
+    spacing: PositiveFloat = 1.0
+    steel_volume_m3_per_m2: NonNegFloat = 0.002
+    region: Annotated[list[Vec2], Field(min_length=3)] | None = None
+    """Polygon covered by the mesh; the building outline when omitted."""
+
+
+class MagneticSpec(_Spec):
+    """Magnetic sources: explicit dipoles, plus the steel of pillars and slabs.
+
+    Steel elements get an induced moment m = χ·V·B_earth/μ0 along the Earth's
+    field plus a remanent moment in a random (seeded) direction whose RMS size
+    is ``remanent_ratio`` times the induced one.
+    """
+
+    dipoles: list[DipoleSpec] = []
+    rebar: list[RebarSpec] = []
+    susceptibility: NonNegFloat = 30.0
+    """Effective (shape-limited) volume susceptibility of rebar steel."""
+    remanent_ratio: NonNegFloat = 0.5
+    pillar_dipole_spacing: PositiveFloat = 0.5
+    min_distance: PositiveFloat = 0.05
+    """Distances to a dipole below this are clamped, keeping the field finite."""
+
+
+class WifiApSpec(_Spec):
+    """A WiFi access point."""
+
+    bssid: str
+    position: Vec3
+    tx_power_dbm: Annotated[float, Field(ge=-10, le=36, allow_inf_nan=False)] = 18.0
+    frequency_ghz: Annotated[float, Field(ge=2.3, le=7.2, allow_inf_nan=False)] = 2.4
+    ssid: str = ""
+
+    @field_validator("bssid")
+    @classmethod
+    def _mac(cls, v: str) -> str:
+        if not re.fullmatch(r"[0-9a-fA-F]{2}(:[0-9a-fA-F]{2}){5}", v):
+            raise ValueError(f"{v!r} is not a MAC address like 02:00:00:00:00:01")
+        return v
+
+
+class RadioSpec(_Spec):
+    """Propagation model: log-distance path loss + multi-wall loss + shadowing."""
+
+    path_loss_exponent: Annotated[float, Field(ge=1.0, le=6.0)] = 2.0
+    system_loss_db: NonNegFloat = 10.0
+    """Antenna, cable and body losses between AP EIRP and the phone's report."""
+    pillar_loss_db: NonNegFloat = 3.0
+    """Loss past a pillar: a 0.4–0.8 m column is narrower than the first Fresnel
+    zone at 2.4–5 GHz (≈ 0.5 m at 5 m range), so most power diffracts around
+    it; a few dB [E] rather than a concrete wall's 12–26 dB."""
+    shadowing_sigma_db: NonNegFloat = 4.0
+    shadowing_correlation_m: PositiveFloat = 8.0
+
+
+class RouteSpec(_Spec):
+    """A walk: explicit waypoints, or a start and goal joined by a shortest path."""
+
+    waypoints: Annotated[list[Vec2], Field(min_length=2)] | None = None
+    start: Vec2 | None = None
+    goal: Vec2 | None = None
+    speed: Annotated[float, Field(gt=0.1, le=3.0, allow_inf_nan=False)] = 1.2
+
+    @model_validator(mode="after")
+    def _one_form(self) -> RouteSpec:
+        has_wp = self.waypoints is not None
+        has_sg = self.start is not None or self.goal is not None
+        if has_wp == has_sg:
+            raise ValueError("give either 'waypoints' or both 'start' and 'goal'")
+        if has_sg and (self.start is None or self.goal is None):
+            raise ValueError("'start' and 'goal' must be given together")
+        return self
+
+    def points(self) -> list[tuple[float, float]]:
+        """The points that must be walkable (waypoints, or start and goal)."""
+        return list(self.waypoints) if self.waypoints is not None else [self.start, self.goal]
+
+
+class GridSurveySpec(_Spec):
+    """Han2023's offline phase: a phone held flat, still, on a regular grid."""
+
+    kind: Literal["grid"]
+    spacing: PositiveFloat = 1.2
+    duration_s: PositiveFloat = 30.0
+    rate_hz: PositiveFloat = 50.0
+    height: PositiveFloat = 1.2
+    region: Annotated[list[Vec2], Field(min_length=3)] | None = None
+
+
+class WalkSurveySpec(_Spec):
+    """Chen2022's offline phase: walking a route past marked reference points."""
+
+    kind: Literal["walk"]
+    route: str
+    reference_spacing: PositiveFloat = 5.0
+    wifi_dwell_s: PositiveFloat = 10.0
+    repeats: Annotated[int, Field(ge=1)] = 1
+
+
+SurveySpec = Annotated[GridSurveySpec | WalkSurveySpec, Field(discriminator="kind")]
+SURVEY_KINDS = ("grid", "walk")
+
+
+class Scenario(_Spec):
+    """A complete, validated scenario (see the module docstring)."""
+
+    name: Annotated[str, Field(min_length=1)]
+    description: str = ""
+    seed: Annotated[int, Field(ge=0)] = 0
+    """Seeds the site's fixed randomness (remanent moments, shadowing fields)."""
+    site: SiteSpec
+    outline: Annotated[list[Vec2], Field(min_length=3)] | None = None
+    """Building footprint; derived from the walls when omitted."""
+    walls: Annotated[list[WallSpec], Field(min_length=1)]
+    doors: list[DoorSpec] = []
+    windows: list[WindowSpec] = []
+    rooms: list[RoomSpec] = []
+    pillars: list[PillarSpec] = []
+    obstacles: list[ObstacleSpec] = []
+    luminaires: list[LuminaireSpec] = []
+    light: LightSpec = LightSpec()
+    magnetic: MagneticSpec = MagneticSpec()
+    wifi: list[WifiApSpec] = []
+    radio: RadioSpec = RadioSpec()
+    routes: dict[str, RouteSpec] = {}
+    surveys: dict[str, SurveySpec] = {}

@@ -1,0 +1,274 @@
+"""The evaluation protocol: the contract check, episodes, starts, training walks, plug-ins, CLI."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import indoorsim
+from indoorsim.benchmark.evaluation import (
+    EstimatorContractError,
+    check_estimator,
+    run_episode,
+    start_info,
+    training_walks,
+)
+from indoorsim.benchmark.leaderboard import evaluate, markdown_table
+from indoorsim.benchmark.metrics import SUMMARY_KEYS
+from indoorsim.cli import main
+from indoorsim.estimators.base import SiteContext, StartInfo, UnknownEstimatorError, available, make
+from indoorsim.io.recording import Recording
+from tests.conftest import REALDATA
+
+ILC = REALDATA / "ms-indoor-location-2020/site1/F1/path_data_files"
+
+
+@pytest.mark.parametrize("name", available())
+def test_every_registered_estimator_honours_the_contract(name):
+    check_estimator(name)
+
+
+class _Broken:
+    name = "broken"
+
+    def __init__(self, answer=(np.nan, 0.0)):
+        self.answer = answer
+
+    def fit(self, site, train):
+        pass
+
+    def reset(self, start):
+        self.rng = np.random.default_rng()
+
+    def act(self, obs):
+        return np.array(self.answer)
+
+
+class _Restless(_Broken):
+    name = "restless"
+
+    def act(self, obs):
+        return self.rng.normal(size=2)  # ignores the episode seed
+
+
+class _Crashing(_Broken):
+    name = "crashing"
+
+    def act(self, obs):
+        return obs["accel"][10_000]  # an IndexError inside the estimator
+
+
+def test_contract_check_names_the_broken_rule():
+    with pytest.raises(EstimatorContractError, match="expected a finite"):
+        check_estimator(_Broken())
+    with pytest.raises(EstimatorContractError, match="different estimates"):
+        check_estimator(_Restless())
+    with pytest.raises(EstimatorContractError, match=r"crashing: the episode failed: IndexError"):
+        check_estimator(_Crashing())
+    nameless = _Broken((0.0, 0.0))
+    nameless.name = ""
+    with pytest.raises(EstimatorContractError, match="no non-empty 'name'"):
+        check_estimator(nameless)
+
+
+def test_unknown_estimator_lists_the_available_ones():
+    with pytest.raises(UnknownEstimatorError, match=r"available: .*pdr-basic"):
+        make("no-such-estimator")
+    with pytest.raises(UnknownEstimatorError, match="cannot load"):
+        make("no_such_module:Thing")
+
+
+def test_training_walks_use_other_routes_and_seeds():
+    site = indoorsim.load_site("han2023_corridor")
+    walks = training_walks(site, "trajectory", mode="handheld", device="ideal", n=2)
+    assert {w.meta["route"]["name"] for w in walks} == {"heading_test"}
+    assert len({w.meta["seed"] for w in walks}) == 2 and all(w.has_truth for w in walks)
+
+
+@pytest.mark.skipif(not ILC.is_dir(), reason="shared real data not found beside the repository")
+def test_real_recording_starts_at_its_first_waypoint_heading_to_the_second():
+    rec = Recording.load(next(iter(sorted(ILC.glob("*.txt")))))
+    start = start_info(rec)
+    wp = rec.waypoints[["x", "y"]].to_numpy()
+    np.testing.assert_allclose(start.position, wp[0])
+    d = wp[1] - wp[0]
+    assert start.heading == pytest.approx(np.arctan2(d[1], d[0]))
+
+
+def test_start_only_error_is_the_distance_from_the_start():
+    site = indoorsim.load_site("minimal_room")
+    ev = evaluate("start-only", site, seeds=(0,), device="ideal", n_train=1)
+    walk = ev.walks[0].estimates
+    assert list(walk.columns) == ["t", "x", "y", "true_x", "true_y"]
+    start = walk[["x", "y"]].to_numpy()
+    assert np.allclose(start, start[0])
+    err = np.hypot(walk["true_x"] - walk["x"], walk["true_y"] - walk["y"])
+    assert ev.walks[0].metrics["ae"] == pytest.approx(err.mean())
+    row = ev.row()
+    assert {"scenario", "mode", "estimator", "seeds", "env_id", "git_revision"} <= set(row)
+    assert set(SUMMARY_KEYS) <= set(row) and row["env_id"] == "indoorsim/MinimalRoom-v1"
+    assert "| start-only | handheld | 1 |" in markdown_table(pd.DataFrame([row]))
+
+
+def test_episode_rejects_a_nan_estimate():
+    site = indoorsim.load_site("minimal_room")
+    rec = indoorsim.simulate.simulate(site, route="main", device="ideal", seed=0)
+    ctx = SiteContext(name="m", window_samples=50)
+    with pytest.raises(ValueError, match=r"broken.*window 0"):
+        run_episode(_Broken(), rec, ctx, StartInfo(position=np.zeros(2), heading=0.0))
+
+
+def test_evaluate_cli_writes_walks_and_fails_above_thresholds(tmp_path, capsys):
+    args = ["evaluate", "--estimator", "start-only", "--scenario", "minimal_room", "--seeds", "1"]
+    args += ["--device", "ideal"]
+    assert main([*args, "--out", str(tmp_path / "ok"), "--fail-above", "ae=100"]) == 0
+    folder = tmp_path / "ok" / "minimal_room_handheld_start-only_seed0"
+    assert list(pd.read_csv(folder / "estimates.csv").columns) == [
+        "t",
+        "x",
+        "y",
+        "true_x",
+        "true_y",
+    ]
+    assert "ae" in pd.read_csv(folder / "metrics.csv").columns
+    assert main([*args, "--out", str(tmp_path / "bad"), "--fail-above", "ae=0.01,cep95=100"]) == 3
+    assert "ae = " in capsys.readouterr().err
+    assert main([*args, "--out", str(tmp_path / "x"), "--fail-above", "speed=1"]) == 2
+    assert main([*args[:2], "nope", *args[3:], "--out", str(tmp_path / "y")]) == 2
+    assert "unknown estimator 'nope'; available:" in capsys.readouterr().err
+
+
+def _install_plugin(root: Path) -> None:
+    (root / "tiny_estimator_plugin.py").write_text(
+        "import numpy as np\n"
+        "class Centre:\n"
+        "    name = 'tiny-centre'\n"
+        "    def fit(self, site, train):\n"
+        "        xmin, ymin, xmax, ymax = site.plan.bounds\n"
+        "        self.centre = np.array([(xmin + xmax) / 2, (ymin + ymax) / 2])\n"
+        "    def reset(self, start):\n"
+        "        pass\n"
+        "    def act(self, obs):\n"
+        "        return self.centre.copy()\n"
+    )
+    dist = root / "tiny_estimator_plugin-1.0.dist-info"
+    dist.mkdir()
+    (dist / "METADATA").write_text(
+        "Metadata-Version: 2.1\nName: tiny-estimator-plugin\nVersion: 1.0\n"
+    )
+    (dist / "entry_points.txt").write_text(
+        "[indoorsim.estimators]\ntiny-centre = tiny_estimator_plugin:Centre\n"
+    )
+
+
+def test_an_outside_plugin_runs_through_the_cli(tmp_path):
+    plugin = tmp_path / "site-packages"
+    plugin.mkdir()
+    _install_plugin(plugin)
+    cmd = [sys.executable, "-m", "indoorsim", "evaluate", "--estimator", "tiny-centre"]
+    cmd += ["--scenario", "minimal_room", "--seeds", "1", "--device", "ideal"]
+    cmd += ["--out", str(tmp_path / "out")]
+    env = {"PYTHONPATH": str(plugin), "PATH": "/usr/bin:/bin"}
+    done = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
+    assert done.returncode == 0, done.stderr
+    summary = pd.read_csv(tmp_path / "out" / "summary.csv")
+    assert summary["estimator"].iloc[0] == "tiny-centre" and summary["ae"].iloc[0] > 0
+    # The same class by module:Class string, in process.
+    sys.path.insert(0, str(plugin))
+    try:
+        assert make("tiny_estimator_plugin:Centre").name == "tiny-centre"
+    finally:
+        sys.path.remove(str(plugin))
+
+
+@pytest.mark.parametrize(
+    ("north_deg", "field"),
+    [(0.0, None), (30.0, None), (0.0, [0.0, 30.0, -40.0]), (-40.0, [30.0, 0.0, -40.0])],
+)
+def test_rotation_vector_heading_converts_to_the_building_frame(north_deg, field):
+    from scipy.spatial.transform import Rotation
+
+    from indoorsim.benchmark.evaluation import site_context
+    from indoorsim.estimators.frames import heading_from_rotation
+    from indoorsim.simulate import simulate
+    from indoorsim.world.site import Site
+
+    base = indoorsim.load_site("minimal_room").scenario
+    site_spec = base.site.model_copy(update={"north_deg": north_deg, "earth_field_uT": field})
+    magnetic = base.magnetic.model_copy(update={"dipoles": []})  # an undisturbed field
+    site = Site(base.model_copy(update={"site": site_spec, "magnetic": magnetic, "surveys": {}}))
+    ctx = site_context(site, device="ideal")
+    rec = simulate(site, route="main", device="ideal", seed=0)
+    rot = rec.rotation
+    est = heading_from_rotation(rot.to_numpy(), ctx.magnetic_to_building_rad)
+    truth = rec.truth
+    q = truth[["qw", "qx", "qy", "qz"]].to_numpy()
+    top = Rotation.from_quat(q, scalar_first=True).apply([0.0, 1.0, 0.0])
+    true = np.interp(rot.index, truth.index, np.unwrap(np.arctan2(top[:, 1], top[:, 0])))
+    err = np.degrees(np.angle(np.exp(1j * (est - true))))
+    assert np.median(np.abs(err)) < 2.0
+
+
+def test_evaluate_cli_refuses_an_estimator_the_site_cannot_serve(tmp_path, capsys):
+    args = ["evaluate", "--estimator", "wknn-mag", "--scenario", "minimal_room", "--seeds", "1"]
+    assert main([*args, "--device", "ideal", "--out", str(tmp_path / "o")]) == 2
+    assert "not applicable here" in capsys.readouterr().err
+
+
+def test_true_step_count_starts_at_the_first_sample_whatever_the_window():
+    site = indoorsim.load_site("minimal_room")
+    counts = {
+        w: evaluate("pdr-basic", site, seeds=(0,), device="ideal", n_train=1, window_s=w)
+        .walks[0]
+        .metrics["step_count_error"]
+        for w in (1.0, 5.0)
+    }
+    assert counts[1.0] == counts[5.0]
+
+
+@pytest.mark.skipif(not (REALDATA / "oxford-stepcounter").is_dir(), reason="no real data")
+def test_real_step_count_table_uses_the_reference_counts(tmp_path):
+    from indoorsim.benchmark.leaderboard import write_step_counts
+
+    table = write_step_counts(tmp_path, REALDATA / "oxford-stepcounter")
+    inhand = table[
+        (table["walk"] == "Pixel_Jamie_Hard_InHand_1") & (table["min_interval_s"] == 0.3)
+    ]
+    assert inhand["true_steps"].item() == 292
+    assert abs(inhand["error_pct"].item()) < 5  # a phone held in the hand: a clean count
+    assert "| hand | 0.5 |" in (tmp_path / "step_counts_real.md").read_text()
+
+
+def test_evaluate_cli_refuses_zero_seeds(tmp_path, capsys):
+    args = ["evaluate", "--estimator", "start-only", "--scenario", "minimal_room", "--seeds", "0"]
+    assert main([*args, "--out", str(tmp_path / "o")]) == 2
+    assert "--seeds: must be > 0" in capsys.readouterr().err and not (tmp_path / "o").exists()
+
+
+def test_evaluate_cli_names_a_recording_that_cannot_be_scored(tmp_path, capsys):
+    site = indoorsim.load_site("minimal_room")
+    rec = indoorsim.simulate.simulate(site, route="main", device="ideal", seed=0, duration_s=5.0)
+    streams = {k: v for k, v in rec.streams.items() if k not in ("truth", "steps")}
+    bare = Recording(streams=streams, meta=rec.meta).save(tmp_path / "bare")
+    args = ["evaluate", "--estimator", "start-only", "--recording", str(bare)]
+    assert main([*args, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert f"--recording {bare}: cannot be scored" in err, err
+    assert not (tmp_path / "o").exists()  # nothing written for a run that did not happen
+
+
+def test_leaderboard_cli_takes_a_module_class_estimator(tmp_path, monkeypatch, capsys):
+    plugin = tmp_path / "site-packages"
+    plugin.mkdir()
+    _install_plugin(plugin)
+    monkeypatch.syspath_prepend(str(plugin))
+    args = ["leaderboard", "--quick", "--scenario", "minimal_room", "--out", str(tmp_path / "lb")]
+    assert main([*args, "--estimator", "tiny_estimator_plugin:Centre"]) == 0
+    assert "tiny_estimator_plugin:Centre" in capsys.readouterr().out
+    assert main([*args, "--estimator", "no_such_module:Thing"]) == 2
+    assert "cannot load estimator 'no_such_module:Thing'" in capsys.readouterr().err

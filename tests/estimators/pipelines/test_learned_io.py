@@ -1,0 +1,358 @@
+"""``learned-io`` and ``indoorsim train``: training, weights-only checkpoints, the estimator."""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import math
+import pickle
+from pathlib import Path
+
+import numpy as np
+import pytest
+import torch
+
+import indoorsim
+from indoorsim.benchmark.evaluation import (
+    check_estimator,
+    run_episode,
+    start_info,
+    true_positions_at,
+)
+from indoorsim.cli import main
+from indoorsim.dataset import DatasetConfig, build_dataset
+from indoorsim.dataset.torch import WindowDataset
+from indoorsim.dataset.train import TRAINING_STATE, TrainConfig, TrainingFolderError, train
+from indoorsim.estimators.base import SiteContext, StartInfo, make
+from indoorsim.estimators.nn.inertial import (
+    MODEL_JSON,
+    WEIGHTS_FILE,
+    Checkpoint,
+    CheckpointError,
+    InertialConfig,
+    InertialResNet,
+    load_checkpoint,
+    weights_bytes,
+)
+from indoorsim.estimators.pipelines.learned_io import LearnedIO
+from indoorsim.simulate import simulate
+from indoorsim.util import quaternion
+from indoorsim.windows import PRESENT_ORDER
+
+# Two small sites (the bundled 10 m room and a generated hall), one minute each,
+# the IMU at 50 Hz in 1 s windows every 0.5 s: ~230 windows, seconds to build.
+TINY = DatasetConfig(
+    sites=2,
+    walks_per_site=1,
+    minutes=1.0,
+    seed=3,
+    bundled=["minimal_room"],
+    bundled_share=0.5,
+    generated_kinds=["open_hall"],
+    imu_rate_hz=50.0,
+    window_samples=50,
+    stride_samples=25,
+    rows_per_row_group=64,
+)
+EPOCHS, BATCH = 8, 32
+
+
+@pytest.fixture(scope="module")
+def tiny_data(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("tiny") / "data"
+    build_dataset(TINY, out, workers=1, progress=False)
+    return out
+
+
+@pytest.fixture(scope="module")
+def tiny_checkpoint(tiny_data: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A checkpoint trained by the command line on the tiny data set."""
+    out = tmp_path_factory.mktemp("ckpt") / "io"
+    argv = ["train", "--data", str(tiny_data), "--out", str(out), "--epochs", str(EPOCHS)]
+    assert main([*argv, "--batch-size", str(BATCH), "--quiet"]) == 0
+    return out
+
+
+def _mse(model: torch.nn.Module, data: Path) -> float:
+    ds = WindowDataset(data, frame="world")
+    imu = torch.stack([ds[i]["imu"] for i in range(len(ds))])
+    vel = torch.stack([ds[i]["vel"] for i in range(len(ds))])
+    with torch.inference_mode():
+        return float(((model.eval()(imu) - vel) ** 2).mean())
+
+
+def test_tiny_training_run_lowers_the_loss(tiny_data, tiny_checkpoint):
+    meta = json.loads((tiny_checkpoint / MODEL_JSON).read_text())
+    # Finished: the two files a user needs, no optimiser state left behind.
+    assert sorted(p.name for p in tiny_checkpoint.iterdir()) == [MODEL_JSON, WEIGHTS_FILE]
+    assert meta["complete"] and meta["epochs_done"] == EPOCHS == len(meta["history"])
+    assert meta["imu_rate_hz"] == 50.0 and meta["window_samples"] == 50
+    card = (tiny_data / "dataset_card.json").read_bytes()
+    assert meta["data"]["card_sha256"] == hashlib.sha256(card).hexdigest()
+    # The same network before training (same seed) against after, on the same windows.
+    torch.manual_seed(0)
+    untrained = InertialResNet(InertialConfig(), meta["input_mean"], meta["input_std"])
+    trained = load_checkpoint(tiny_checkpoint).model
+    assert _mse(trained, tiny_data) < 0.5 * _mse(untrained, tiny_data)
+    losses = [h["train_loss"] for h in meta["history"]]
+    assert losses[-1] < losses[0]
+
+
+def test_interrupted_training_resumes_to_the_same_weights(
+    tiny_data, tiny_checkpoint, tmp_path, monkeypatch
+):
+    from indoorsim.dataset import train as training
+
+    out = tmp_path / "io"
+    config = TrainConfig(epochs=EPOCHS, batch_size=BATCH)
+    write = training._write_checkpoint
+    written = []
+
+    def interrupt_after_three(*args, **kwargs):
+        write(*args, **kwargs)
+        written.append(1)
+        if len(written) == 3:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(training, "_write_checkpoint", interrupt_after_three)
+    with pytest.raises(KeyboardInterrupt):
+        train(tiny_data, out, config, progress=False)
+    assert (out / TRAINING_STATE).is_file()
+    assert json.loads((out / MODEL_JSON).read_text())["epochs_done"] == 3
+    monkeypatch.setattr(training, "_write_checkpoint", write)
+
+    with pytest.raises(TrainingFolderError, match="another run"):
+        train(tiny_data, out, TrainConfig(epochs=EPOCHS, batch_size=BATCH, lr=1e-3))
+    report = train(tiny_data, out, config, progress=False)
+    assert (report.resumed_from, report.epochs_run) == (3, EPOCHS - 3)
+    # Seeded per epoch and deterministic: the same bytes as the uninterrupted run.
+    assert (out / WEIGHTS_FILE).read_bytes() == (tiny_checkpoint / WEIGHTS_FILE).read_bytes()
+    assert not (out / TRAINING_STATE).exists()
+    assert train(tiny_data, out, config, progress=False).epochs_run == 0
+
+
+def test_checkpoint_round_trip_gives_identical_predictions(tiny_checkpoint, tmp_path):
+    first = load_checkpoint(tiny_checkpoint)
+    copy = tmp_path / "copy"
+    copy.mkdir()
+    (copy / WEIGHTS_FILE).write_bytes(weights_bytes(first.model))
+    (copy / MODEL_JSON).write_bytes((tiny_checkpoint / MODEL_JSON).read_bytes())
+    second = load_checkpoint(copy)
+    # Saving what was loaded gives the same bytes: nothing is lost or added.
+    assert (copy / WEIGHTS_FILE).read_bytes() == (tiny_checkpoint / WEIGHTS_FILE).read_bytes()
+    imu = torch.randn(16, 6, first.window_samples, generator=torch.Generator().manual_seed(1))
+    imu[:, 2] += 9.81
+    with torch.inference_mode():
+        assert torch.equal(first.model(imu), second.model(imu))
+
+
+# Set if unpickling ever calls the payload's constructor: it must stay empty.
+SPRUNG: list[str] = []
+
+
+def _spring(text: str) -> str:
+    SPRUNG.append(text)
+    return text
+
+
+class _Trap:
+    """Unpickles by calling a function: what a malicious checkpoint would do."""
+
+    def __reduce__(self):
+        return (_spring, ("code ran",))
+
+
+def _payloads(state: dict[str, torch.Tensor]) -> dict[str, bytes]:
+    def saved(obj: object) -> bytes:
+        buf = io.BytesIO()
+        torch.save(obj, buf)
+        return buf.getvalue()
+
+    name = next(iter(state))
+    return {
+        "object_in_state_dict": saved(state | {name: _Trap()}),
+        "plain_pickle": pickle.dumps({name: _Trap()}, protocol=2),
+        "string_in_state_dict": saved(state | {name: "not a tensor"}),
+        "list_of_tensors": saved(list(state.values())),
+    }
+
+
+@pytest.mark.parametrize(
+    "payload",
+    ["object_in_state_dict", "plain_pickle", "string_in_state_dict", "list_of_tensors"],
+)
+def test_weights_with_anything_but_tensors_are_refused(tiny_checkpoint, tmp_path, payload):
+    state = load_checkpoint(tiny_checkpoint).model.state_dict()
+    data = _payloads(state)[payload]
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    (bad / WEIGHTS_FILE).write_bytes(data)
+    # Whoever crafted the weights can fix the checksum too: refusal must not rest on it.
+    meta = json.loads((tiny_checkpoint / MODEL_JSON).read_text())
+    meta["weights_sha256"] = hashlib.sha256(data).hexdigest()
+    (bad / MODEL_JSON).write_text(json.dumps(meta))
+    with pytest.raises(CheckpointError, match="refused"):
+        load_checkpoint(bad)
+    assert SPRUNG == []
+    with pytest.raises(CheckpointError, match="refused"):
+        make("learned-io", checkpoint=str(bad)).fit(_context(50.0, 50), [])
+
+
+def test_weights_changed_behind_model_json_are_refused(tiny_checkpoint, tmp_path):
+    state = load_checkpoint(tiny_checkpoint).model.state_dict()
+    state["head.bias"] = state["head.bias"] + 1.0
+    folder = tmp_path / "changed"
+    folder.mkdir()
+    buf = io.BytesIO()
+    torch.save(state, buf)
+    (folder / WEIGHTS_FILE).write_bytes(buf.getvalue())
+    (folder / MODEL_JSON).write_bytes((tiny_checkpoint / MODEL_JSON).read_bytes())
+    with pytest.raises(CheckpointError, match="SHA-256"):
+        load_checkpoint(folder)
+
+
+def test_check_estimator_passes():
+    check_estimator("learned-io")
+
+
+def _context(rate_hz: float, window_samples: int, site: object = None) -> SiteContext:
+    if site is None:
+        return SiteContext(name="stub", imu_rate_hz=rate_hz, window_samples=window_samples)
+    return SiteContext(
+        name=site.name,
+        building_north_deg=site.scenario.site.north_deg,
+        magnetic_declination_deg=site.magnetic_declination_deg,
+        imu_rate_hz=rate_hz,
+        window_samples=window_samples,
+    )
+
+
+@pytest.mark.parametrize(
+    ("mode", "device", "rate_hz"),
+    [
+        ("handheld", "nexus_5x", 50.0),
+        ("calling", "nexus_5x", 50.0),
+        ("dangling", "nexus_5x", 50.0),
+        ("pocketed", "nexus_5x", 50.0),
+        ("handheld", "mid_grade", 100.0),
+        ("dangling", "high_grade", 200.0),
+    ],
+)
+def test_packaged_network_tracks_the_walk_in_every_mode_and_rate(mode, device, rate_hz):
+    """The packaged checkpoint (50 Hz) on a bundled room it never saw, 1 s windows."""
+    site = indoorsim.load_site("minimal_room")
+    rec = simulate(site, route="main", mode=mode, device=device, seed=1)
+    ctx = _context(rate_hz, int(rate_hz), site)
+    est = make("learned-io")
+    est.fit(ctx, [])
+    start = start_info(rec)
+    res = run_episode(est, rec, ctx, start)
+    truth = true_positions_at(rec, res.t)
+    error = np.linalg.norm(res.estimate - truth, axis=1).mean()
+    standing = np.linalg.norm(truth - start.position, axis=1).mean()
+    # Far better than not moving: the speed and direction are learned, not guessed.
+    assert error < 0.5 * standing
+    assert np.isfinite(res.heading).all()
+
+
+def _stub(model_rate_hz: float, window_samples: int, frame: str = "world") -> LearnedIO:
+    torch.manual_seed(0)
+    meta = {"frame": frame, "imu_rate_hz": model_rate_hz, "window_samples": window_samples}
+    est = LearnedIO()
+    est._net = Checkpoint(model=InertialResNet().eval(), meta=meta)
+    return est
+
+
+def _obs(t: np.ndarray, accel: np.ndarray, gyro: np.ndarray, rotation: np.ndarray) -> dict:
+    n = len(t)
+    return {
+        "t": t,
+        "valid": np.ones(n, np.int8),
+        "accel": accel,
+        "gyro": gyro,
+        "rotation": rotation,
+        "game_rotation": rotation,
+        "gravity": np.zeros((n, 3)),
+        "present": np.ones(len(PRESENT_ORDER), np.int8),
+    }
+
+
+@pytest.mark.parametrize(("device_hz", "model_hz"), [(200.0, 50.0), (50.0, 100.0)])
+def test_resampling_reproduces_a_linear_signal_at_the_model_rate(device_hz, model_hz):
+    """Linear interpolation is exact on a ramp, whatever the phone's jittered clock."""
+    window = int(device_hz)  # 1 s observation windows
+    est = _stub(model_hz, window_samples=int(3 * model_hz))
+    est._resample = True  # what fit() decides for a phone at another rate
+    est.reset(StartInfo(position=np.zeros(2), heading=0.0, t0=0.0))
+    rng = np.random.default_rng(0)
+    n = 4 * window
+    t = np.arange(n) / device_hz + rng.uniform(-0.2, 0.2, n) / device_hz
+    t[0] = 0.0
+    # The phone turned by 90° about z: the world-frame signal is what must be resampled.
+    turn = np.array([math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4)])
+    world = np.column_stack([2.0 * t, 1.0 - t, 9.81 + 0 * t, 0.1 * t, 0 * t, -0.5 * t])
+    phone_acc = quaternion.rotate(quaternion.conjugate(turn), world[:, :3])
+    phone_gyro = quaternion.rotate(quaternion.conjugate(turn), world[:, 3:])
+    rot = np.broadcast_to(turn, (n, 4)).copy()
+    for k in range(4):
+        s = slice(k * window, (k + 1) * window)
+        est.act(_obs(t[s], phone_acc[s], phone_gyro[s], rot[s]))
+    grid = np.arange(math.floor(t[-1] * model_hz + 1e-9) + 1) / model_hz
+    expected = np.column_stack(
+        [2.0 * grid, 1.0 - grid, 9.81 + 0 * grid, 0.1 * grid, 0 * grid, -0.5 * grid]
+    )[-est._net.window_samples :]
+    np.testing.assert_allclose(est._buffer, expected, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("frame", "missing"), [("world", "rotation"), ("gravity_aligned", "game_rotation")]
+)
+def test_without_its_attitude_stream_the_position_holds(frame: str, missing: str):
+    est = _stub(50.0, 50, frame)
+    est._to_building = 0.0
+    est.reset(StartInfo(position=np.array([1.0, 2.0]), heading=0.5, t0=0.0))
+    t = np.arange(50) / 50.0
+    still = np.tile([0.0, 0.0, 9.81], (50, 1))
+    obs = _obs(t, still, np.zeros((50, 3)), np.tile([1.0, 0.0, 0.0, 0.0], (50, 1)))
+    obs["present"][PRESENT_ORDER.index(missing)] = 0
+    for k in range(3):
+        obs["t"] = t + k
+        np.testing.assert_array_equal(est.act(obs), [1.0, 2.0])
+    assert est.heading == 0.5 and len(est._buffer) == 0
+
+
+def test_game_rotation_yaw_offset_is_recovered():
+    """rotation = yaw(α) ⊗ game_rotation: the game frame's velocity turns by α to the world."""
+    rng = np.random.default_rng(2)
+    game = rng.normal(size=(40, 4))
+    game /= np.linalg.norm(game, axis=1, keepdims=True)
+    alpha = 2.5
+    yaw = np.array([math.cos(alpha / 2), 0.0, 0.0, math.sin(alpha / 2)])
+    obs = {"rotation": quaternion.multiply(yaw, game), "game_rotation": game}
+    got = LearnedIO._game_to_world_yaw(obs, np.ones(40, bool))
+    assert got == pytest.approx(alpha)
+
+
+def test_gravity_aligned_training_runs_through_the_estimator(tiny_data, tmp_path):
+    out = tmp_path / "ga"
+    report = train(tiny_data, out, TrainConfig(epochs=2, frame="gravity_aligned"), progress=False)
+    assert report.history[-1]["train_loss"] > 0
+    site = indoorsim.load_site("minimal_room")
+    rec = simulate(site, route="main", mode="handheld", device="nexus_5x", seed=2)
+    ctx = _context(50.0, 50, site)
+    est = make("learned-io", checkpoint=str(out))
+    est.fit(ctx, [])
+    res = run_episode(est, rec, ctx, start_info(rec))
+    assert np.isfinite(res.estimate).all()
+    assert not np.allclose(res.estimate, res.estimate[0])
+
+
+def test_train_command_rejects_a_phone_frame_and_missing_data(tmp_path, capsys):
+    out = ["--out", str(tmp_path / "o")]
+    assert main(["train", "--data", str(tmp_path), *out, "--frame", "phone"]) == 2
+    assert "invalid choice" in capsys.readouterr().err
+    assert main(["train", "--data", str(tmp_path / "none"), *out]) == 2
+    assert "not a folder" in capsys.readouterr().err
+    assert main(["train", "--data", str(tmp_path), *out]) == 2
+    assert "dataset_card.json" in capsys.readouterr().err

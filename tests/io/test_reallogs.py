@@ -1,0 +1,366 @@
+"""Real phone logs load into Recordings with the right units, frames, clocks and labels."""
+
+from __future__ import annotations
+
+import csv
+import doctest
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import indoorsim.io.reallogs.common
+from indoorsim.io.reallogs import (
+    carry_mode,
+    detect_format,
+    read_ilc_trace,
+    read_oxford_validation,
+    read_sensor_logger,
+)
+from indoorsim.io.recording import Recording, RecordingError
+from tests.conftest import REALDATA
+
+ILC = REALDATA / "ms-indoor-location-2020/site1/F1"
+OXFORD = REALDATA / "oxford-stepcounter"
+
+
+def _needs(path: Path) -> Path:
+    if not path.exists():
+        pytest.skip(f"real data not found beside the repository: {path}")
+    return path
+
+
+def _norms(df: pd.DataFrame, columns: list[str]) -> np.ndarray:
+    return np.linalg.norm(df[columns].to_numpy(), axis=1)
+
+
+# ---------------------------------------------------------------------- ILC 2.0 traces
+
+
+@pytest.fixture(scope="module")
+def ilc_traces() -> list[Recording]:
+    files = sorted(_needs(ILC / "path_data_files").glob("*.txt"))[:3]
+    return [Recording.load(f) for f in files]
+
+
+def test_ilc_sensor_streams_are_plausible(ilc_traces: list[Recording]):
+    for rec in ilc_traces:
+        for stream in ("accel", "gyro", "mag", "rotation"):
+            assert 45 < rec.meta["rates_hz"][stream] < 55, stream
+        assert rec.accel.index[0] == 0.0
+        assert 9.3 < _norms(rec.accel, ["x", "y", "z"]).mean() < 10.3
+        assert 30 < _norms(rec.mag, ["x", "y", "z"]).mean() < 70
+        np.testing.assert_allclose(_norms(rec.rotation, ["qw", "qx", "qy", "qz"]), 1.0, atol=1e-12)
+        assert (rec.rotation["qw"] >= 0).all()
+
+
+def test_ilc_wifi_and_waypoints(ilc_traces: list[Recording]):
+    for rec in ilc_traces:
+        assert len(rec.wifi) > 100
+        assert (rec.wifi["rss"] < 0).all() and (rec.wifi["rss"] > -110).all()
+        assert (rec.wifi["age_s"] >= 0).all()
+        assert rec.wifi["bssid"].str.fullmatch(r"([0-9a-f]{2}:){5}[0-9a-f]{2}").all()
+        assert 3 <= len(rec.waypoints) <= 8
+        site = rec.meta["site"]
+        assert (rec.waypoints["x"].between(0, site["map_width_m"])).all()
+        assert (rec.waypoints["y"].between(0, site["map_height_m"])).all()
+        pd.testing.assert_frame_equal(rec.true_positions(), rec.waypoints)
+        assert not rec.has_truth
+
+
+def test_ilc_header_goes_to_meta(ilc_traces: list[Recording]):
+    meta = ilc_traces[0].meta
+    assert meta["device"] == "OPPO PBCM10"
+    assert meta["phone"]["api_level"] == 27
+    assert meta["site"]["floor_name"] == "F1"
+    assert meta["site"]["map_width_m"] == pytest.approx(239.8, abs=0.1)
+    assert meta["sensors"]["mag"]["name"] == "AK09911 Magnetometer"
+    assert meta["sensors"]["mag"]["resolution"] == pytest.approx(0.6, abs=0.01)
+    assert meta["start_time_unix_ms"] <= meta["t0_unix_ms"] < meta["end_time_unix_ms"]
+    assert meta["mode"] == "handheld"
+    assert meta["malformed_lines"] == 0
+    assert meta["dropped_rows"]["TYPE_BEACON"] > 0
+
+
+def test_ilc_trace_survives_save_and_load(ilc_traces: list[Recording], tmp_path: Path):
+    rec = ilc_traces[0]
+    loaded = Recording.load(rec.save(tmp_path / "trace"))
+    assert loaded.meta == rec.meta
+    for name, df in rec.streams.items():
+        pd.testing.assert_frame_equal(df, loaded.streams[name], check_exact=True)
+
+
+SMALL_TRACE = """\
+#\tstartTime:1000000
+#\tSiteID:s1\tSiteName:Mall\tFloorId:f1\tFloorName:F2
+#\tBrand:ACME\tModel:P1\tAndroidName:14\tAPILevel:34
+#\ttype:1\tname:Acc\tversion:1\tvendor:V\tresolution:0.01\tpower:0.1\tmaximumRange:80
+1000010\tTYPE_WAYPOINT\t1.5\t2.5
+1000100\tTYPE_ACCELEROMETER\t0.1\t0.2\t9.8\t3
+1000100\tTYPE_ROTATION_VECTOR\t0.0\t0.0\t0.70710678\t3
+1000100\tTYPE_BEACON\tuuid\t1\t2\t-60\t-70\t1.0\tmac\t1000100
+1000120\tTYPE_ACCELEROMETER\t0.1\t0.2\t9.9\t31000140\tTYPE_GYROSCOPE\t0.0\t0.0\t0.1\t3
+1000140\tTYPE_ACCELEROMETER\t0.1\t0.2\tnot-a-number\t3
+1000160\tTYPE_ACCELEROMETER\t0.0\t0.3\t9.7\t3
+1000200\tTYPE_WIFI\tnet\t02:00:00:00:00:01\t-61\t2412\t998200
+1000200\tTYPE_WIFI\tnet\t02:00:00:00:00:02\t-75\t5180\t1000150
+1000900\tTYPE_WAYPOINT\t3.5\t2.5
+#\tendTime:1001000
+"""
+
+
+def test_ilc_mapping_on_a_small_trace(tmp_path: Path):
+    path = tmp_path / "trace.txt"
+    path.write_text(SMALL_TRACE, encoding="utf-8")
+    assert detect_format(path).name == "ilc2020"
+    rec = read_ilc_trace(path)
+    # t = 0 at the first sensor row (ms 1000100); the waypoint before it is negative.
+    np.testing.assert_array_equal(rec.accel.index, [0.0, 0.06])
+    np.testing.assert_array_equal(rec.accel["z"], [9.8, 9.7])
+    np.testing.assert_array_equal(rec.waypoints.index, [-0.09, 0.8])
+    # Rotation vector 90° about z: w = sqrt(1 - z²) = cos 45°.
+    np.testing.assert_allclose(rec.rotation.iloc[0], [np.sqrt(0.5), 0, 0, np.sqrt(0.5)], atol=1e-8)
+    np.testing.assert_array_equal(rec.wifi.index, [0.1, 0.1])
+    np.testing.assert_array_equal(rec.wifi["rss"], [-61.0, -75.0])
+    np.testing.assert_allclose(rec.wifi["age_s"], [2.0, 0.05])
+    # The run-on line (two rows, one newline lost) and the unparsable value are skipped.
+    assert rec.meta["malformed_lines"] == 2
+    assert "gyro" not in rec.streams
+    assert rec.meta["dropped_rows"] == {"TYPE_BEACON": 1}
+    assert rec.meta["device"] == "ACME P1" and rec.meta["site"]["floor_name"] == "F2"
+    assert rec.meta["sensors"]["accel"]["max_range"] == 80.0
+    assert "map_width_m" not in rec.meta["site"]
+
+
+# ---------------------------------------------------------------------- Oxford step counter
+
+
+def _upstream_steps() -> dict[str, int]:
+    with (_needs(OXFORD) / "optimisation/stats_upstream.csv").open() as rows:
+        return {
+            row[0]: int(row[6])
+            for row in csv.reader(rows, skipinitialspace=True)
+            if not row[0].startswith("#")
+        }
+
+
+@pytest.mark.parametrize(
+    ("folder", "steps", "mode", "rate_hz"),
+    [  # steps: the table in realdata/oxford-stepcounter/README.md
+        ("Pixel_Jamie_Hard_InHand_1", 292, "handheld", 405),
+        ("Pixel_Jamie_Hard_SwingingArm_1", 284, "dangling", 405),
+        ("Samsung_Dario_Hard_FrontPocket_1", 306, "pocketed", 205),
+        ("Samsung_Carmelo_Hard_Purse_1", 288, "Purse", 205),
+    ],
+)
+def test_oxford_folder_step_count_matches_upstream(
+    folder: str, steps: int, mode: str, rate_hz: float
+):
+    rec = Recording.load(_needs(OXFORD / "optimisation" / folder))
+    assert len(rec.steps) == steps == _upstream_steps()[folder] == rec.meta["ground_truth_steps"]
+    assert sum(rec.meta["channel_steps"]) == len(rec.steps)
+    assert set(rec.steps["channel"]) == {1, 2}
+    assert rec.steps["foot"].isna().all() and rec.steps["length"].isna().all()
+    assert rec.meta["mode"] == mode
+    assert rec.meta["rates_hz"]["accel"] == pytest.approx(rate_hz, rel=0.03)
+    assert 9.5 < _norms(rec.accel, ["x", "y", "z"]).mean() < 11.5
+    assert rec.steps.index[0] > 0 and rec.steps.index[-1] <= rec.accel.index[-1] + 0.1
+
+
+@pytest.mark.parametrize(
+    "name", ["user1_hand_1506421989895.csv", "user2_backpocket_1506422483834.csv"]
+)
+def test_oxford_validation_steps_follow_the_ground_truth_column(name: str):
+    path = _needs(OXFORD / "validation" / name)
+    rec = Recording.load(path)
+    ground_truth = np.loadtxt(path, delimiter=",", usecols=5)
+    assert len(rec.steps) == ground_truth[-1] == rec.meta["ground_truth_steps"]
+    assert 326 <= len(rec.steps) <= 361
+    assert 99 < rec.meta["rates_hz"]["accel"] < 102
+    assert rec.meta["device"] == "Samsung Galaxy S6"
+    assert rec.accel.index[0] == 0.0
+    assert 9.5 < _norms(rec.accel, ["x", "y", "z"]).mean() < 12.5
+
+
+def test_oxford_validation_meta():
+    hand = Recording.load(_needs(OXFORD / "validation/user1_hand_1506421989895.csv"))
+    assert hand.meta["mode"] == "handheld" and hand.meta["user"] == "user1"
+    assert hand.meta["start_time_unix_ms"] == 1506421989895
+    assert hand.meta["hardware_steps"] is None  # all zero: not recorded for user1
+    assert hand.meta["dropped_rows"] == {"zero_accel_placeholder": 1}
+    pocket = read_oxford_validation(OXFORD / "validation/user2_backpocket_1506422483834.csv")
+    assert pocket.meta["mode"] == "pocketed" and pocket.meta["hardware_steps"] == 345
+
+
+def test_oxford_validation_steps_on_a_small_file(tmp_path: Path):
+    path = tmp_path / "user9_armband_1500000000000.csv"
+    # ns, ax, ay, az, app steps, ground-truth steps, hardware steps; GT jumps by 2 at row 3.
+    path.write_text(
+        "5000000000,0,0,0,0,0,0\n"
+        "5010000000,0.1,0.2,9.8,0,0,0\n"
+        "5020000000,0.1,0.2,9.8,1,1,0\n"
+        "5030000000,0.1,0.2,9.8,1,3,0\n"
+        "5040000000,0.1,0.2,9.8,2,3,0\n"
+    )
+    rec = Recording.load(path)
+    np.testing.assert_allclose(rec.steps.index, [0.01, 0.02, 0.02])
+    np.testing.assert_allclose(rec.accel.index, [0.0, 0.01, 0.02, 0.03])
+    assert rec.meta["mode"] == "armband" and rec.meta["app_algorithm_steps"] == 2
+    path.write_text("1,0.1,0.2,9.8,0,2,0\n2,0.1,0.2,9.8,0,1,0\n")
+    with pytest.raises(RecordingError, match="decreases at row 1"):
+        Recording.load(path)
+
+
+def test_carry_modes():
+    assert [carry_mode(p) for p in ("InHand", "hand", "BackPocket", "backpocket")] == [
+        "handheld",
+        "handheld",
+        "pocketed",
+        "pocketed",
+    ]
+    assert carry_mode("SwingingArm") == "dangling"
+    assert carry_mode("NeckPouch") == "NeckPouch"
+
+
+# ---------------------------------------------------------------------- Sensor Logger
+
+T0 = 1_700_000_000_000_000_000  # ns since the epoch
+
+
+def _rows(header: str, rows: list[tuple]) -> str:
+    return header + "\n" + "".join(",".join(str(v) for v in row) + "\n" for row in rows)
+
+
+def _sensor_logger_export(folder: Path, *, platform: str = "android") -> Path:
+    """A small export in the app's documented layout (axis files ordered z, y, x)."""
+    folder.mkdir()
+    ms = 1_000_000
+    times = [T0 + 10 * ms * i for i in range(4)]
+    files = {
+        "Gyroscope.csv": _rows(
+            "time,seconds_elapsed,z,y,x",
+            [(t, 0.1 + i / 100, 0.3, 0.2, 0.1) for i, t in enumerate(times)],
+        ),
+        "Gravity.csv": _rows(
+            "time,seconds_elapsed,z,y,x",
+            [(t, 0.1 + i / 100, 9.8, 0.5, 0.0) for i, t in enumerate(times)],
+        ),
+        "Accelerometer.csv": _rows(
+            "time,seconds_elapsed,z,y,x",
+            [(t, 0.1 + i / 100, 0.3, 0.2, 0.1) for i, t in enumerate(times)],
+        ),
+        "Magnetometer.csv": _rows(
+            "time,seconds_elapsed,z,y,x",
+            [
+                (times[0], 0.1, -40.0, 20.0, 5.0),
+                (times[2], 0.12, -41.0, 21.0, 6.0),
+                # A stale repeat of an earlier sample: its time goes backwards.
+                (times[1], 0.11, -40.0, 20.0, 5.0),
+                (times[3], 0.13, -42.0, 22.0, 7.0),
+            ],
+        ),
+        "Orientation.csv": _rows(
+            "time,seconds_elapsed,qz,qy,qx,qw,roll,pitch,yaw",
+            [(t, 0.1, 0.0, 0.0, 0.6, 0.8, 0.0, 1.287, 0.0) for t in times],
+        ),
+        "Location.csv": _rows("time,seconds_elapsed,latitude,longitude", [(times[0], 0.1, 51, 0)]),
+        "Metadata.csv": _rows(
+            "version,device name,recording epoch time,recording time,recording timezone,"
+            "platform,appVersion,device id,sensors,sampleRateMs,standardisation,platform version",
+            [
+                (
+                    3,
+                    "Pixel 8",
+                    T0 // 1_000_000,
+                    "2023-11-14_22-13-20",
+                    "Europe/London",
+                    platform,
+                    "1.64",
+                    "secret-id",
+                    "Accelerometer|Gyroscope",
+                    "10|10",
+                    "false",
+                    36,
+                )
+            ],
+        ),
+    }
+    if platform == "android":
+        files["TotalAcceleration.csv"] = _rows(
+            "time,seconds_elapsed,z,y,x",
+            [(t - 5 * ms, 0.095 + i / 100, 9.81, 0.7, 0.1) for i, t in enumerate(times)],
+        )
+        files["Light.csv"] = _rows("time,seconds_elapsed,lux", [(times[1], 0.11, 120.5)])
+        files["WiFi.csv"] = _rows(
+            "time,seconds_elapsed,ssid,bssid,frequency,level,capabilities",
+            [
+                (times[2], 0.12, "lab", "02:00:00:00:00:0a", 2437, -48, "[WPA2]"),
+                (times[2], 0.12, "lab", "02:00:00:00:00:0b", 5180, -77, "[WPA2]"),
+            ],
+        )
+    for name, text in files.items():
+        (folder / name).write_text(text)
+    return folder
+
+
+def test_sensor_logger_android_folder(tmp_path: Path):
+    rec = Recording.load(_sensor_logger_export(tmp_path / "export"))
+    assert rec.meta["source"]["format"] == "sensor-logger"
+    # t = 0 at the first motion sample: TotalAcceleration, 5 ms before the others.
+    np.testing.assert_allclose(rec.accel.index, [0.0, 0.01, 0.02, 0.03])
+    np.testing.assert_allclose(rec.gyro.index, [0.005, 0.015, 0.025, 0.035])
+    # Columns are taken by name, not position: files list z, y, x.
+    np.testing.assert_array_equal(rec.accel.iloc[0], [0.1, 0.7, 9.81])
+    np.testing.assert_array_equal(rec.gyro.iloc[0], [0.1, 0.2, 0.3])
+    np.testing.assert_array_equal(rec.linear_accel.iloc[0], [0.1, 0.2, 0.3])
+    np.testing.assert_array_equal(rec.gravity.iloc[0], [0.0, 0.5, 9.8])
+    np.testing.assert_array_equal(rec.rotation.iloc[0], [0.8, 0.6, 0.0, 0.0])
+    np.testing.assert_array_equal(rec.mag["z"], [-40.0, -41.0, -42.0])
+    assert rec.meta["dropped_rows"] == {"magnetometer_time_backwards": 1}
+    assert rec.light["lux"].tolist() == [120.5]
+    assert rec.wifi["bssid"].tolist() == ["02:00:00:00:00:0a", "02:00:00:00:00:0b"]
+    np.testing.assert_array_equal(rec.wifi["rss"], [-48.0, -77.0])
+    assert rec.meta["device"] == "Pixel 8" and rec.meta["platform"] == "android"
+    assert rec.meta["standardisation"] is False
+    assert rec.meta["t0_unix_ns"] == T0 - 5_000_000
+    assert rec.meta["dropped_files"] == ["location"]
+    assert "secret-id" not in str(rec.meta)
+    assert "not confirmed" in rec.meta["frames"]["rotation"]
+
+
+def test_sensor_logger_zip_reads_like_the_folder(tmp_path: Path):
+    folder = _sensor_logger_export(tmp_path / "export")
+    archive = tmp_path / "export.zip"
+    with zipfile.ZipFile(archive, "w") as zf:
+        for file in folder.iterdir():
+            zf.write(file, arcname=f"2023-11-14_22-13-20/{file.name}")
+    from_zip, from_folder = Recording.load(archive), read_sensor_logger(folder)
+    assert list(from_zip.streams) == list(from_folder.streams)
+    for name, df in from_folder.streams.items():
+        pd.testing.assert_frame_equal(df, from_zip.streams[name])
+
+
+def test_sensor_logger_ios_builds_accel_from_user_acceleration_and_gravity(tmp_path: Path):
+    rec = read_sensor_logger(
+        _sensor_logger_export(tmp_path / "ios", platform="ios"), mode="calling"
+    )
+    # iOS without standardisation reports acceleration and gravity with the opposite sign.
+    np.testing.assert_array_equal(rec.gravity.iloc[0], [-0.0, -0.5, -9.8])
+    np.testing.assert_array_equal(rec.linear_accel.iloc[0], [-0.1, -0.2, -0.3])
+    np.testing.assert_allclose(rec.accel.iloc[0], [-0.1, -0.7, -10.1])
+    assert rec.accel.index[0] == 0.0 and rec.meta["mode"] == "calling"
+    assert "light" not in rec.streams and "wifi" not in rec.streams
+
+
+def test_sensor_logger_missing_column_is_named(tmp_path: Path):
+    folder = _sensor_logger_export(tmp_path / "export")
+    (folder / "Gyroscope.csv").write_text("time,seconds_elapsed,z,y\n1,0.1,0.3,0.2\n")
+    with pytest.raises(RecordingError, match=r"gyroscope.csv lacks column\(s\) \['x'\]"):
+        Recording.load(folder)
+
+
+def test_docstring_examples_run():
+    result = doctest.testmod(indoorsim.io.reallogs.common)
+    assert result.attempted > 0 and result.failed == 0
