@@ -29,11 +29,13 @@ from scipy import signal, stats
 
 __all__ = [
     "STEP_BAND_HZ",
+    "band_power",
     "band_share",
     "crest_factor",
     "dominant_frequency",
     "excess_kurtosis",
     "harmonic_shares",
+    "peak_frequency",
     "peak_to_peak_per_period",
     "resample_uniform",
     "rms_per_axis",
@@ -96,9 +98,11 @@ def spectrum(
     return f, p
 
 
-def _band_power(f: NDArray[np.float64], p: NDArray[np.float64], lo: float, hi: float) -> float:
+def band_power(f: NDArray[np.float64], p: NDArray[np.float64], lo: float, hi: float) -> float:
+    """Power of the bins whose centre lies in ``[lo, hi]`` (a sum of bins, not a trapezoid,
+    so adjacent bands add up and a window's main lobe is counted whole)."""
     keep = (f >= lo) & (f <= hi)
-    return float(np.trapezoid(p[keep], f[keep])) if keep.sum() > 1 else 0.0
+    return float(p[keep].sum() * (f[1] - f[0])) if len(f) > 1 else 0.0
 
 
 def band_share(
@@ -110,29 +114,35 @@ def band_share(
 ) -> float:
     """Share of the power within ``center ± half_width`` of the power in ``total`` (all if None)."""
     lo, hi = total if total is not None else (float(f[0]), float(f[-1]))
-    whole = _band_power(f, p, lo, hi)
+    whole = band_power(f, p, lo, hi)
     if whole <= 0:
         return math.nan
-    part = _band_power(f, p, max(lo, center_hz - half_width_hz), min(hi, center_hz + half_width_hz))
+    part = band_power(f, p, max(lo, center_hz - half_width_hz), min(hi, center_hz + half_width_hz))
     return part / whole
+
+
+def peak_frequency(
+    f: NDArray[np.float64], p: NDArray[np.float64], band: tuple[float, float] = STEP_BAND_HZ
+) -> float:
+    """Frequency of a spectrum's highest bin within ``band`` (Hz), refined between bins
+    by the parabola through the log powers of the peak bin and its neighbours."""
+    keep = np.flatnonzero((f >= band[0]) & (f <= band[1]))
+    if keep.size == 0:
+        return math.nan
+    k = int(keep[np.argmax(p[keep])])
+    if 0 < k < len(p) - 1 and min(p[k - 1 : k + 2]) > 0:
+        a, b, c = np.log(p[k - 1 : k + 2])
+        denom = a - 2 * b + c
+        if denom != 0:
+            return float(f[k] + 0.5 * (a - c) / denom * (f[1] - f[0]))
+    return float(f[k])
 
 
 def dominant_frequency(
     x: ArrayLike, rate_hz: float, band: tuple[float, float] = STEP_BAND_HZ
 ) -> float:
-    """Frequency of the highest spectral peak within ``band`` (Hz), parabolically refined."""
-    f, p = spectrum(x, rate_hz)
-    keep = np.flatnonzero((f >= band[0]) & (f <= band[1]))
-    if keep.size == 0:
-        return math.nan
-    k = int(keep[np.argmax(p[keep])])
-    if 0 < k < len(p) - 1 and p[k - 1] > 0 and p[k + 1] > 0 and p[k] > 0:
-        # Peak of the parabola through the log powers of the three bins around it.
-        a, b, c = np.log(p[k - 1 : k + 2])
-        denom = a - 2 * b + c
-        offset = 0.5 * (a - c) / denom if denom != 0 else 0.0
-        return float(f[k] + offset * (f[1] - f[0]))
-    return float(f[k])
+    """Frequency of the highest spectral peak of ``x`` within ``band`` (Hz)."""
+    return peak_frequency(*spectrum(x, rate_hz), band)
 
 
 def harmonic_shares(

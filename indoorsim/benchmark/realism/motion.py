@@ -1,0 +1,203 @@
+"""Motion statistics of one recording's walking: how the phone shakes and turns.
+
+:func:`motion_statistics` takes a :class:`~indoorsim.io.recording.Recording`
+(simulated or a real log) and returns the statistics of the "Motion realism"
+issue for the parts where the phone's wearer walks. The same code path runs on
+both sides:
+
+1. Every stream used is put on one uniform clock at :data:`MOTION_RATE_HZ`
+   (linear interpolation at the stream's own median rate, then a polyphase
+   anti-alias resampler), so a 405 Hz research log, a 100 Hz simulated phone
+   and a 50 Hz competition trace are measured at the same bandwidth.
+2. Walking is found from the accelerometer alone
+   (:func:`~indoorsim.benchmark.realism.stats.walking_mask`): truth is never read.
+3. The statistics are computed over the walking runs; spectra are the
+   run-length-weighted mean of each run's Welch spectrum, so the gaps between
+   runs add no false edges.
+
+The keys of the returned dict (NaN where a stream is missing or too short):
+
+==================  ==========================================================
+``walking_s``       seconds of walking found
+``step_hz``         dominant frequency of ‖a‖ (the step rate)
+``cadence_ratio``   ``step_hz`` over the recording's step count per walking second
+``acc_std``         standard deviation of ‖a‖ (m/s²)
+``acc_p2p``         median peak-to-peak of ‖a‖ per stride (m/s²)
+``acc_crest``       median crest factor of ‖a‖ over 10 s windows
+``acc_kurtosis``    excess kurtosis of ‖a‖
+``share_stride``    share of ‖a‖ power near half the step rate (left/right asymmetry)
+``share_step``      share of ‖a‖ power near the step rate
+``share_2nd``       share of ‖a‖ power near twice the step rate (heel-strike harmonics)
+``gyro_rms_1..3``   per-axis RMS of the angular rate, largest first (rad/s)
+``heading_jitter``  std of the fused heading about its 2 s running median (degrees)
+==================  ==========================================================
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+from scipy import ndimage, signal
+
+from indoorsim.benchmark.realism.stats import (
+    band_power,
+    crest_factor,
+    excess_kurtosis,
+    peak_frequency,
+    peak_to_peak_per_period,
+    resample_uniform,
+    rms_per_axis,
+    walking_mask,
+)
+from indoorsim.io.recording import Recording
+from indoorsim.util import quaternion
+
+__all__ = ["MOTION_KEYS", "MOTION_RATE_HZ", "motion_statistics", "uniform_stream"]
+
+MOTION_RATE_HZ = 50.0
+"""The common rate: the lowest of the real logs (Indoor Location Competition traces)."""
+
+MOTION_KEYS = (
+    "walking_s",
+    "step_hz",
+    "cadence_ratio",
+    "acc_std",
+    "acc_p2p",
+    "acc_crest",
+    "acc_kurtosis",
+    "share_stride",
+    "share_step",
+    "share_2nd",
+    "gyro_rms_1",
+    "gyro_rms_2",
+    "gyro_rms_3",
+    "heading_jitter",
+)
+
+_SEGMENT_S = 8.0  # Welch segment: 0.125 Hz bins, several segments per real walk
+_CREST_WINDOW_S = 10.0
+_JITTER_MEDIAN_S = 2.0
+_HALF_WIDTH_HZ = 0.3  # the Hann main lobe and a little cadence drift
+_POWER_BAND_HZ = (0.3, 15.0)
+
+
+def uniform_stream(df: pd.DataFrame, columns: list[str], rate_hz: float) -> NDArray[np.float64]:
+    """A stream's columns on a uniform clock at ``rate_hz`` from its first sample.
+
+    The samples are first interpolated onto a uniform grid at their own median
+    rate, then resampled by a polyphase filter (which low-passes before it
+    decimates), so a faster stream is not aliased.
+    """
+    t = df.index.to_numpy(dtype=float)
+    v = df[columns].to_numpy(dtype=float)
+    keep = np.concatenate([[True], np.diff(t) > 0])  # repeated stamps carry no new time
+    t, v = t[keep], v[keep]
+    native = 1.0 / float(np.median(np.diff(t)))
+    _, grid_values = resample_uniform(t, v, native)
+    ratio = Fraction(rate_hz / native).limit_denominator(200)
+    if ratio == 1:
+        return grid_values
+    return signal.resample_poly(grid_values, ratio.numerator, ratio.denominator, axis=0)
+
+
+def _runs(mask: NDArray[np.bool_]) -> list[slice]:
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.view(np.int8), [0]])))
+    return [slice(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+
+def _mean_spectrum(
+    x: NDArray[np.float64], runs: list[slice], rate_hz: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """Welch spectra of each run long enough for a segment, weighted by the run's length."""
+    nperseg = round(_SEGMENT_S * rate_hz)
+    total, weight, freqs = None, 0, None
+    for run in runs:
+        seg = x[run]
+        if len(seg) < nperseg:
+            continue
+        freqs, p = signal.welch(seg, fs=rate_hz, window="hann", nperseg=nperseg, detrend="constant")
+        total = p * len(seg) if total is None else total + p * len(seg)
+        weight += len(seg)
+    if total is None or freqs is None:
+        return None
+    return freqs, total / weight
+
+
+def _heading_jitter_deg(rotation: NDArray[np.float64], walking: NDArray[np.bool_]) -> float:
+    """Std (°) of the phone's forward-axis heading about its running median, while walking."""
+    q = rotation / np.linalg.norm(rotation, axis=1, keepdims=True)
+    forward = quaternion.rotate(q, np.array([0.0, 1.0, 0.0]))
+    heading = np.unwrap(np.arctan2(forward[:, 1], forward[:, 0]))
+    size = max(3, round(_JITTER_MEDIAN_S * MOTION_RATE_HZ) | 1)
+    residual = heading - ndimage.median_filter(heading, size=size, mode="nearest")
+    return float(np.degrees(np.std(residual[walking]))) if walking.sum() > size else math.nan
+
+
+def motion_statistics(rec: Recording) -> dict[str, float]:
+    """The walking statistics of ``rec`` (see the module docstring for the keys)."""
+    out = dict.fromkeys(MOTION_KEYS, math.nan)
+    rate = MOTION_RATE_HZ
+    acc = uniform_stream(rec.accel, ["x", "y", "z"], rate)
+    norm = np.linalg.norm(acc, axis=1)
+    walking = walking_mask(norm, rate)
+    runs = _runs(walking)
+    out["walking_s"] = float(walking.sum() / rate)
+    spec = _mean_spectrum(norm, runs, rate)
+    if spec is None:
+        return out
+    f, p = spec
+    step_hz = peak_frequency(f, p)
+    out["step_hz"] = step_hz
+    whole = band_power(f, p, *_POWER_BAND_HZ)
+    for key, multiple in (("share_stride", 0.5), ("share_step", 1.0), ("share_2nd", 2.0)):
+        centre = multiple * step_hz
+        out[key] = band_power(f, p, centre - _HALF_WIDTH_HZ, centre + _HALF_WIDTH_HZ) / whole
+
+    walked = norm[walking]
+    out["acc_std"] = float(np.std(walked))
+    out["acc_kurtosis"] = excess_kurtosis(walked)
+    stride_s = 2.0 / step_hz
+    out["acc_p2p"] = float(
+        np.median(
+            [peak_to_peak_per_period(norm[r], rate, stride_s) for r in runs if _long(r, stride_s)]
+        )
+    )
+    window = round(_CREST_WINDOW_S * rate)
+    crests = [
+        crest_factor(norm[s : s + window])
+        for r in runs
+        for s in range(r.start, r.stop - window + 1, window)
+    ]
+    out["acc_crest"] = float(np.median(crests)) if crests else math.nan
+
+    if "steps" in rec.streams and len(rec.steps):
+        t0 = float(rec.accel.index[0])
+        steps_t = (rec.steps.index.to_numpy(dtype=float) - t0) * rate
+        in_walk = walking[np.clip(steps_t.astype(int), 0, len(walking) - 1)]
+        if in_walk.any():
+            out["cadence_ratio"] = step_hz / (in_walk.sum() / out["walking_s"])
+    # The other streams start within a sample or two of the accelerometer (one
+    # clock on real phones, a jittered one each in simulation): aligned by index.
+    if "gyro" in rec.streams:
+        gyro = uniform_stream(rec.gyro, ["x", "y", "z"], rate)
+        n = min(len(gyro), len(walking))
+        rms = rms_per_axis(gyro[:n][walking[:n]])
+        out["gyro_rms_1"], out["gyro_rms_2"], out["gyro_rms_3"] = (float(v) for v in rms)
+    if "rotation" in rec.streams:
+        # q and -q are one rotation: make the samples sign-continuous before filtering them.
+        q = rec.rotation[["qw", "qx", "qy", "qz"]].to_numpy(dtype=float, copy=True)
+        flips = np.concatenate([[False], np.einsum("ij,ij->i", q[1:], q[:-1]) < 0])
+        q *= np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)[:, None]
+        continuous = pd.DataFrame(q, index=rec.rotation.index, columns=["qw", "qx", "qy", "qz"])
+        rotation = uniform_stream(continuous, ["qw", "qx", "qy", "qz"], rate)
+        n = min(len(rotation), len(walking))
+        out["heading_jitter"] = _heading_jitter_deg(rotation[:n], walking[:n])
+    return out
+
+
+def _long(run: slice, period_s: float) -> bool:
+    return (run.stop - run.start) / MOTION_RATE_HZ >= 2 * period_s

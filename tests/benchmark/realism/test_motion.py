@@ -1,0 +1,84 @@
+"""Motion statistics of whole recordings: closed forms on synthetic logs, agreement with truth."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_statistics, uniform_stream
+from indoorsim.io.recording import Recording
+from indoorsim.scenario.load import load_site
+from indoorsim.simulate import simulate
+
+
+def _frame(t: np.ndarray, values: np.ndarray, columns: list[str]) -> pd.DataFrame:
+    return pd.DataFrame(values, index=pd.Index(t, name="t"), columns=columns)
+
+
+def _sine_walk(step_hz: float = 1.8, seconds: float = 60.0, rate: float = 200.0) -> Recording:
+    """A phone that bounces sinusoidally at the step rate while yawing at a steady rate."""
+    t = np.arange(0, seconds, 1 / rate)
+    accel = np.column_stack(
+        [np.zeros_like(t), np.zeros_like(t), 9.81 + 2 * np.sin(2 * np.pi * step_hz * t)]
+    )
+    gyro = np.tile([0.0, 0.0, 0.1], (len(t), 1))
+    half = 0.05 * t  # yaw 0.1 rad/s about z
+    rotation = np.column_stack([np.cos(half), np.zeros_like(t), np.zeros_like(t), np.sin(half)])
+    steps_t = np.arange(0.25, seconds, 1 / step_hz)
+    steps = pd.DataFrame(
+        {"foot": np.arange(len(steps_t)) % 2, "length": 0.7}, index=pd.Index(steps_t, name="t")
+    )
+    return Recording(
+        streams={
+            "accel": _frame(t, accel, ["x", "y", "z"]),
+            "gyro": _frame(t, gyro, ["x", "y", "z"]),
+            "rotation": _frame(t, rotation, ["qw", "qx", "qy", "qz"]),
+            "steps": steps,
+        },
+        meta={},
+    )
+
+
+def test_a_sinusoidal_walk_gives_the_closed_form_statistics():
+    s = motion_statistics(_sine_walk(1.8))
+    assert set(s) == set(MOTION_KEYS)
+    assert s["step_hz"] == pytest.approx(1.8, abs=0.01)
+    assert s["cadence_ratio"] == pytest.approx(1.0, abs=0.01)
+    assert s["acc_std"] == pytest.approx(2 / math.sqrt(2), rel=0.01)
+    assert s["acc_p2p"] == pytest.approx(4.0, rel=0.01)
+    assert s["acc_crest"] == pytest.approx(math.sqrt(2), rel=0.01)
+    assert s["acc_kurtosis"] == pytest.approx(-1.5, abs=0.01)
+    assert s["share_step"] > 0.99 and s["share_2nd"] < 0.01 and s["share_stride"] < 0.01
+    assert s["gyro_rms_1"] == pytest.approx(0.0, abs=1e-9)
+    assert s["heading_jitter"] == pytest.approx(0.0, abs=1e-3)
+
+
+def test_a_still_phone_has_no_walking_and_no_statistics():
+    t = np.arange(0, 30, 0.01)
+    rec = Recording(
+        streams={"accel": _frame(t, np.tile([0.0, 0.0, 9.81], (len(t), 1)), ["x", "y", "z"])},
+        meta={},
+    )
+    s = motion_statistics(rec)
+    assert s["walking_s"] == 0 and math.isnan(s["step_hz"])
+
+
+def test_resampling_to_the_common_rate_keeps_a_slow_signal_and_removes_a_fast_one():
+    t = np.arange(0, 20, 1 / 400)
+    slow, fast = np.sin(2 * np.pi * 2 * t), np.sin(2 * np.pi * 60 * t)  # 60 Hz > 25 Hz Nyquist
+    out = uniform_stream(_frame(t, np.column_stack([slow, fast]), ["a", "b"]), ["a", "b"], 50.0)
+    grid = np.arange(len(out)) / 50.0
+    inner = slice(50, -50)  # away from the filter's edges
+    np.testing.assert_allclose(out[inner, 0], np.sin(2 * np.pi * 2 * grid[inner]), atol=0.01)
+    assert np.abs(out[inner, 1]).max() < 0.01  # not aliased to 10 Hz
+
+
+@pytest.mark.parametrize("mode", ["handheld", "pocketed"])
+def test_the_step_rate_found_in_a_simulated_walk_is_its_true_cadence(mode):
+    rec = simulate(load_site("han2023_corridor"), route="trajectory", mode=mode, seed=2)
+    s = motion_statistics(rec)
+    assert s["walking_s"] > 30
+    assert s["cadence_ratio"] == pytest.approx(1.0, abs=0.05)

@@ -1,0 +1,73 @@
+"""The realism comparison: real ranges, the committed real table, inside/outside per site."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from indoorsim.benchmark.realism.motion import MOTION_KEYS
+from indoorsim.benchmark.realism.reference import (
+    QUOTED_RANGES,
+    load_real_motion,
+    real_motion_table,
+)
+from indoorsim.benchmark.realism.report import (
+    COMPARED,
+    RealismConfig,
+    compare,
+    markdown,
+    real_range,
+    simulated_motion_table,
+)
+from tests.conftest import REALDATA
+
+
+def _real(mode: str, key: str, values: list[float]) -> pd.DataFrame:
+    return pd.DataFrame({"mode": mode, key: values})
+
+
+def test_a_real_range_is_the_measured_one_joined_with_the_quoted_one():
+    quoted = QUOTED_RANGES[("pocketed", "acc_std")]
+    low, high, source = real_range(_real("pocketed", "acc_std", [4.0, 7.5]), "pocketed", "acc_std")
+    assert (low, high) == (quoted[0], 7.5) and source == "2 real walks + quoted"
+    low, high, source = real_range(_real("handheld", "acc_p2p", [6.0, 9.0]), "handheld", "acc_p2p")
+    assert (low, high, source) == (6.0, 9.0, "2 real walks")
+    low, _, source = real_range(_real("handheld", "acc_p2p", []), "calling", "acc_p2p")
+    assert math.isnan(low) and source == "no real data"
+
+
+def test_compare_counts_the_sites_whose_median_lies_inside():
+    real = pd.DataFrame({"mode": "handheld", "acc_p2p": [6.0, 9.0]})
+    sim = pd.DataFrame(
+        {
+            "site": ["a", "a", "a", "b", "b", "b"],
+            "mode": "handheld",
+            "seed": [0, 1, 2] * 2,
+            **{k: np.nan for k in MOTION_KEYS},
+        }
+    )
+    sim["acc_p2p"] = [1.0, 7.0, 8.0, 5.0, 5.5, 10.0]  # medians: a 7.0 inside, b 5.5 outside
+    table = compare(real, sim)
+    row = table[table["statistic"] == "acc_p2p"].iloc[0]
+    assert row["a"] == 7.0 and row["b"] == 5.5 and row["sites_inside"] == 1
+    text = markdown(table, ["a", "b"])
+    assert "7 ✓" in text and "**5.5** ✗" in text
+
+
+@pytest.mark.skipif(not REALDATA.is_dir(), reason=f"no real data at {REALDATA}")
+def test_the_committed_real_table_is_what_the_real_logs_give():
+    fresh = real_motion_table(REALDATA)
+    committed = load_real_motion()
+    assert list(fresh["walk"]) == list(committed["walk"])
+    for key in MOTION_KEYS:
+        np.testing.assert_allclose(fresh[key], committed[key], rtol=1e-5, err_msg=key)
+
+
+def test_every_modelled_mode_is_simulated_and_every_statistic_measured():
+    config = RealismConfig(bundled=("minimal_room",), generated=(), seeds=(0,))
+    sim = simulated_motion_table(config)
+    assert sorted(sim["mode"]) == sorted(config.modes)
+    assert set(COMPARED) <= set(sim.columns)
