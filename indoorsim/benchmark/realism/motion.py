@@ -30,6 +30,8 @@ The keys of the returned dict (NaN where a stream is missing or too short):
 ``share_2nd``       share of ‖a‖ power near twice the step rate (heel-strike harmonics)
 ``gyro_rms_1..3``   per-axis RMS of the angular rate, largest first (rad/s)
 ``heading_jitter``  std of the fused heading about its 2 s running median (degrees)
+``gyro_drift``      drift of the gyro heading ∫ω·ĝ dt against the fused attitude's
+                    heading, degrees per stride (signed; :func:`gyro_heading_drift`)
 ==================  ==========================================================
 """
 
@@ -76,6 +78,7 @@ MOTION_KEYS = (
     "gyro_rms_2",
     "gyro_rms_3",
     "heading_jitter",
+    "gyro_drift",
 )
 
 _SEGMENT_S = 8.0  # Welch segment: 0.125 Hz bins, several segments per real walk
@@ -83,6 +86,7 @@ _CREST_WINDOW_S = 10.0
 _JITTER_MEDIAN_S = 2.0
 _HALF_WIDTH_HZ = 0.3  # the Hann main lobe and a little cadence drift
 _POWER_BAND_HZ = (0.3, 15.0)
+_GRAVITY_CUTOFF_HZ = 0.3  # below the stride rate: ĝ is the phone's mean "down" over a stride
 
 
 def uniform_stream(df: pd.DataFrame, columns: list[str], rate_hz: float) -> NDArray[np.float64]:
@@ -135,6 +139,40 @@ def _heading_jitter_deg(rotation: NDArray[np.float64], walking: NDArray[np.bool_
     size = max(3, round(_JITTER_MEDIAN_S * MOTION_RATE_HZ) | 1)
     residual = heading - ndimage.median_filter(heading, size=size, mode="nearest")
     return float(np.degrees(np.std(residual[walking]))) if walking.sum() > size else math.nan
+
+
+def gyro_heading_drift(
+    gyro: NDArray[np.float64],
+    accel: NDArray[np.float64],
+    rotation: NDArray[np.float64],
+    runs: list[slice],
+    rate_hz: float,
+) -> float:
+    """Heading change of ∫ω·ĝ dt minus the fused heading's change, radians, summed over runs.
+
+    This is the error of the usual PDR gyro heading, which integrates the rate
+    about the phone's low-passed gravity direction ĝ: a phone that pitches and
+    rolls out of phase (a thigh's coning in a pocket) turns about ĝ without
+    the walker turning, by the area its tilt encloses per cycle. The full
+    attitude's heading is the yaw of the phone axis that stays most horizontal,
+    which is periodic over a stride, so only the walker's own turns remain in
+    it. Arrays share one uniform clock at ``rate_hz``; quaternions are world←phone.
+    """
+    b, a = signal.butter(2, _GRAVITY_CUTOFF_HZ, fs=rate_hz)
+    down = signal.filtfilt(b, a, accel, axis=0)
+    down /= np.linalg.norm(down, axis=1, keepdims=True)
+    q = rotation / np.linalg.norm(rotation, axis=1, keepdims=True)
+    axes = np.eye(3)
+    world_z = np.stack([quaternion.rotate(q, axis)[:, 2] for axis in axes])
+    flat = axes[int(np.argmin(np.mean(np.abs(world_z), axis=1)))]
+    forward = quaternion.rotate(q, flat)
+    yaw = np.unwrap(np.arctan2(forward[:, 1], forward[:, 0]))
+    rate = np.einsum("ij,ij->i", gyro, down)
+    total = 0.0
+    for run in runs:
+        turned_gyro = float(np.sum(rate[run]) / rate_hz)
+        total += turned_gyro - float(yaw[run.stop - 1] - yaw[run.start])
+    return total
 
 
 def motion_statistics(rec: Recording) -> dict[str, float]:
@@ -196,6 +234,12 @@ def motion_statistics(rec: Recording) -> dict[str, float]:
         rotation = uniform_stream(continuous, ["qw", "qx", "qy", "qz"], rate)
         n = min(len(rotation), len(walking))
         out["heading_jitter"] = _heading_jitter_deg(rotation[:n], walking[:n])
+        if "gyro" in rec.streams:
+            n = min(n, len(gyro))
+            inside = [slice(r.start, min(r.stop, n)) for r in runs if r.start < n]
+            drift = gyro_heading_drift(gyro[:n], acc[:n], rotation[:n], inside, rate)
+            strides = sum(r.stop - r.start for r in inside) / rate * step_hz / 2
+            out["gyro_drift"] = math.degrees(drift) / strides
     return out
 
 

@@ -82,3 +82,41 @@ def test_the_step_rate_found_in_a_simulated_walk_is_its_true_cadence(mode):
     s = motion_statistics(rec)
     assert s["walking_s"] > 30
     assert s["cadence_ratio"] == pytest.approx(1.0, abs=0.05)
+
+
+def _coning(pitch_amp: float, roll_amp: float, stride_hz: float = 0.9) -> Recording:
+    """Pitch A·sin u and roll -B·cos u (a quarter cycle behind), no yaw, u = 2π·f_stride·t,
+    with the exact body rates and a bounce at the step rate so that walking is found."""
+    from scipy.spatial.transform import Rotation
+
+    rate, seconds = 200.0, 60.0
+    t = np.arange(0, seconds, 1 / rate)
+    u = 2 * np.pi * stride_hz * t
+    pitch, roll = pitch_amp * np.sin(u), -roll_amp * np.cos(u)
+    pitch_rate = pitch_amp * 2 * np.pi * stride_hz * np.cos(u)
+    roll_rate = roll_amp * 2 * np.pi * stride_hz * np.sin(u)
+    rot = Rotation.from_euler("ZYX", np.column_stack([np.zeros_like(t), pitch, roll]))
+    gyro = np.column_stack([roll_rate, pitch_rate * np.cos(roll), -pitch_rate * np.sin(roll)])
+    lift = np.column_stack([0 * t, 0 * t, 9.81 + 2.0 * np.sin(2 * u)])
+    return Recording(
+        streams={
+            "accel": _frame(t, rot.inv().apply(lift), ["x", "y", "z"]),
+            "gyro": _frame(t, gyro, ["x", "y", "z"]),
+            "rotation": _frame(t, np.roll(rot.as_quat(), 1, axis=1), ["qw", "qx", "qy", "qz"]),
+        },
+        meta={},
+    )
+
+
+def test_a_coning_phone_drifts_by_the_closed_form_per_stride():
+    # About the mean "down" the phone turns by ∫ -θ' sin φ dt = 2π·A·J1(B) per stride.
+    from scipy.special import j1
+
+    s = motion_statistics(_coning(0.3, 0.15))
+    assert s["step_hz"] == pytest.approx(1.8, abs=0.01)
+    expected = math.degrees(2 * np.pi * 0.3 * j1(0.15))
+    assert s["gyro_drift"] == pytest.approx(expected, rel=0.03)
+    # The mirror image (the other pocket: roll leads instead of lagging) drifts the other way.
+    assert motion_statistics(_coning(0.3, -0.15))["gyro_drift"] == pytest.approx(
+        -expected, rel=0.03
+    )
