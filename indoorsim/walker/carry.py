@@ -57,12 +57,8 @@ from scipy.signal import butter, oaconvolve, sosfilt, sosfilt_zi
 from scipy.spatial.transform import Rotation
 
 from indoorsim.util import quaternion as quat_ops
-from indoorsim.walker.gait import (
-    PELVIS_HEIGHT_RATIO,
-    BodyTrajectory,
-    impulse_displacement,
-    smootherstep,
-)
+from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory, smootherstep
+from indoorsim.walker.motion import impulse_displacement
 
 __all__ = [
     "ENTRY_POINT_GROUP",

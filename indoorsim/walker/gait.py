@@ -1,40 +1,33 @@
 """Gait: true step events and the body-centre trajectory of a pedestrian walking a route.
 
 :func:`walk` turns a :class:`~indoorsim.walker.route.Route` into a
-:class:`BodyTrajectory` (DESIGN §5, numbers from REALISM §5):
+:class:`BodyTrajectory` (DESIGN §5, numbers from REALISM §5) in five stages,
+each in its own module:
 
-1. **Path.** Each corner of the route becomes a curve whose curvature rises and
-   falls as sin² along it, so the heading turns with a bell-shaped yaw rate
-   (peak twice the mean) and the curve cuts the corner half as much as a
-   circular arc of the same length. A 90° corner preferably takes
-   ``turn_steps_per_90deg`` steps (others scale with the root of the angle);
-   the curve is shortened where the legs are short or where it would come
-   closer to walls than ``wall_distance_m`` (or than the polyline itself
-   does). Corners sharper than ``pivot_turn_deg``, or so cramped that they
-   could only be walked at a crawl, are taken standing: stop, turn on the
-   spot, go on (turning on the spot takes no modelled steps). Where the path
-   still passes closer than ``wall_distance_m`` to a wall, pillar or desk, it
-   is bent smoothly away from it, as people keep their distance.
-2. **Speed profile.** Along the path the desired speed is the cruising speed
-   with a slow random fluctuation, capped so that speed × curvature stays
-   within the yaw-rate limit, zero at both ends of every walking bout (route
-   ends, stops, pivots), with bounded acceleration and deceleration.
-3. **Steps.** In each bout the cadence–speed relation (:func:`cadence_hz`)
-   gives nominal heel strikes; step times and lengths then get their random
-   variation (coefficients of variation, left/right asymmetry). The distance
-   walked along the path at each heel strike is the sum of the step lengths,
-   so the step events and the trajectory agree exactly. A step that came out
-   too quick for a curve's yaw-rate limit takes longer instead.
-4. **Physics.** The body, a pymunk disc, is steered through these (time,
-   distance) knots at ``physics_rate_hz`` against the walkable area's
-   boundary as static segments, so no track passes through a wall; the track
-   is upsampled to ``rate_hz`` with a C² cubic spline.
-5. **Intra-step motion** is added analytically at ``rate_hz``: forward speed
-   oscillation and vertical bounce at step frequency (lowest and fastest just
-   after heel strike), lateral sway toward the stance foot and trunk yaw at
-   stride frequency, and heel-strike transients shaped as Ricker wavelets of
-   the acceleration (smooth, zero net velocity change). Amplitudes follow each
-   step's length and fade in and out with every bout, so positions stay C².
+1. **Path** (:mod:`indoorsim.walker.path`). Each corner of the route becomes a
+   curve with a sin² curvature profile, shortened near walls and where the
+   legs are short; sharp or cramped corners are turned on the spot; the path
+   bends smoothly away from walls it comes too close to.
+2. **Speed profile** (here). Along the path the desired speed is the cruising
+   speed with a slow random fluctuation, capped so that speed × curvature
+   stays within the yaw-rate limit, zero at both ends of every walking bout
+   (route ends, stops, pivots), with bounded acceleration and deceleration.
+3. **Steps** (here). In each bout the cadence–speed relation
+   (:func:`cadence_hz`) gives nominal heel strikes; step times and lengths
+   then get their random variation (coefficients of variation, left/right
+   asymmetry). The distance walked along the path at each heel strike is the
+   sum of the step lengths, so the step events and the trajectory agree
+   exactly. A step that came out too quick for a curve's yaw-rate limit takes
+   longer instead. The bouts, stops and turns on the spot make up the walk's
+   timeline.
+4. **Physics** (:mod:`indoorsim.walker.physics`). The body, a pymunk disc, is
+   steered through these (time, distance) knots at ``physics_rate_hz``
+   against the walkable area's boundary as static segments, so no track
+   passes through a wall; the track is upsampled to ``rate_hz`` with a C²
+   cubic spline.
+5. **Intra-step motion** (:mod:`indoorsim.walker.motion`): speed oscillation,
+   bounce, sway, trunk yaw and heel-strike transients, added analytically at
+   ``rate_hz`` and faded in and out with every bout, so positions stay C².
 
 Frames: building frame, z up from the floor; heading and yaw in radians from
 +x, counter-clockwise, unwrapped. All randomness comes from the ``rng``
@@ -44,25 +37,23 @@ argument: the same seed gives identical arrays.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
-import threading
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
 import pandas as pd
-import pymunk
-import shapely
 from numpy.typing import ArrayLike, NDArray
-from pymunk._chipmunk_cffi import lib as _CP
 from scipy.integrate import cumulative_trapezoid
 from scipy.interpolate import CubicSpline, PPoly
 from scipy.linalg.lapack import dgtsv
 from scipy.ndimage import gaussian_filter1d
 from scipy.signal import lfilter
 
+from indoorsim.walker.motion import impulse_displacement, intra_step_motion
+from indoorsim.walker.path import SmoothPath, cumsum0, hermite_spline
+from indoorsim.walker.physics import steer
 from indoorsim.walker.route import Route
 
 if TYPE_CHECKING:
@@ -73,7 +64,7 @@ __all__ = [
     "BodyTrajectory",
     "WalkerParams",
     "cadence_hz",
-    "impulse_displacement",
+    "impulse_displacement",  # defined in walker.motion; kept here for the old import path
     "smootherstep",
     "step_length_m",
     "walk",
@@ -81,8 +72,6 @@ __all__ = [
 
 PELVIS_HEIGHT_RATIO = 0.53
 """Standing height of the body centre (pelvis) as a fraction of body height."""
-
-_G = 9.81  # m/s²
 
 # Step length / body height = _SL_C0 + _SL_C1·v [D]: least-squares line through
 # REALISM §5's anchors (1.0 m/s → 1.6–1.75 Hz, 1.31 m/s → 1.94 Hz, 1.72 m/s →
@@ -96,43 +85,14 @@ _CADENCE_FLOOR_MPS = 0.6
 # The speed profile keeps the yaw rate this far below the limit, leaving room
 # for the step-to-step speed variation added afterwards.
 _YAW_MARGIN = 0.85
-# Heel-strike transients peak this long after contact and last about ±3σ; σ =
-# 15 ms puts their energy at 10–20 Hz [E].
-_HS_DELAY_S, _HS_SIGMA_S = 0.02, 0.015
-# The vertical minimum and forward-speed maximum come just after heel strike,
-# in double support (as a fraction of a step).
-_DOUBLE_SUPPORT_PHASE = 0.1
 # Mean-reversion of the accumulated step-length noise, so the walker's place
 # along the path stays within a few cm of the nominal plan (turn slow-downs
 # stay aligned with the turns) while each step keeps its own variation.
 _LENGTH_REVERSION = 0.25
-# Profile grid spacing along the path (m) and curve sampling step (m).
-_PROFILE_DS_M, _CURVE_DS_M = 0.01, 0.005
-# Geometry search for a corner's curve: shrink factor and number of tries.
-_TURN_SHRINK, _TURN_TRIES = 0.75, 10
-# A corner whose curve could only be walked slower than this (m/s) within the
-# yaw-rate limit is turned on the spot.
-_PIVOT_BELOW_MPS = 0.3
-# Route vertices closer than this (m) to the previous one are dropped: such
-# legs (e.g. where a start near a wall joins the planned path) are no walk.
-_MIN_LEG_M = 0.05
-# Keeping off walls: resampling step (m), smoothing of the push along the path
-# (σ, m) and the number of push-and-smooth rounds.
-_KEEP_DS_M, _KEEP_SMOOTH_M, _KEEP_ROUNDS = 0.02, 0.3, 8
-# The first look for walls near the path reaches this much farther (m), to
-# know which points cannot come too close in the rounds that follow.
-_KEEP_SCAN_M = 0.1
+# Speed-profile grid spacing along the path (m).
+_PROFILE_DS_M = 0.01
 # Stops keep this far (m) from the route ends, pivots and each other.
 _STOP_GAP_M = 3.0
-# Speed (m/s) at which the steering joint pulls the body back onto its planned
-# track after a wall has pushed it off, and the largest acceleration (m/s²) it
-# may give the body: ample for any planned track, and a gentle shove when a
-# wall is in the way [E].
-_TRACK_MAX_CORRECTION, _MAX_STEER_ACCEL = 0.5, 5.0
-# The disc's physics is skipped on stretches of at least _STEER_MIN_SKIP steps
-# where the plan stays this much farther than the disc's radius plus a step
-# from every wall (m), once the disc is within _STEER_ON_TRACK_M of its plan.
-_STEER_CLEAR_M, _STEER_MIN_SKIP, _STEER_ON_TRACK_M = 0.05, 8, 1e-9
 # A walk cut short still steers its body this long past the cut (s).
 _SPLINE_TAIL_S = 4.0
 # Where within each step a bout checks the yaw rate.
@@ -172,69 +132,6 @@ def smootherstep(x: ArrayLike) -> NDArray[np.float64]:
     """
     x = np.clip(x, 0.0, 1.0)
     return x**3 * (x * (6.0 * x - 15.0) + 10.0)
-
-
-def impulse_displacement(
-    t: NDArray[np.float64], t_hs: NDArray[np.float64], peak: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """Displacement (m) whose acceleration is a short pulse of ``peak`` m/s² after each heel strike.
-
-    x(t) = −peak·σ²·exp(−u²/2) with u = (t − t_hs − 20 ms)/σ and σ = 15 ms, so
-    ẍ = peak·(1 − u²)·exp(−u²/2), a Ricker wavelet: a sharp pulse flanked by
-    two shallow opposite lobes, with no net change of velocity and no
-    displacement left behind. Smooth at any sample rate of 200 Hz or more.
-
-    Args:
-        t: (K,) sorted sample times.
-        t_hs: (N,) sorted heel-strike times, more than 0.2 s apart (so only
-            the two nearest can reach a sample).
-        peak: (N,) acceleration peak of each pulse.
-    """
-    out = np.zeros(len(t))
-    if len(t_hs) == 0:
-        return out
-    centre = t_hs + _HS_DELAY_S
-    # Each sample gets the pulse centred last before it and the one next after
-    # it: the exponents of both in one compiled pass, np.exp on each set, and
-    # the sum in another pass.
-    first = int(np.searchsorted(t, centre[0], "right"))
-    last = int(np.searchsorted(t, centre[-1], "right"))
-    arg_prev, arg_next = np.empty(len(t) - first), np.empty(last)
-    j_prev, j_next = np.empty(len(t) - first, np.intp), np.empty(last, np.intp)
-    _pulse_exponents(t, centre, _HS_SIGMA_S, first, arg_prev, j_prev, arg_next, j_next)
-    scale = peak * _HS_SIGMA_S**2
-    _add_pulses(out, first, scale, j_prev, np.exp(arg_prev), j_next, np.exp(arg_next))
-    return out
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _pulse_exponents(
-    t, centre, sigma, first, arg_prev, j_prev, arg_next, j_next
-):  # pragma: no cover - compiled
-    """−u²/2 with u = (t − centre)/σ for the last centre before each sample t[first:]
-    and for the next centre from each sample t[:len(arg_next)] on, and which
-    centres those are (``t`` and ``centre`` ascending)."""
-    k = 0
-    for i in range(len(t)):
-        while k < len(centre) and centre[k] < t[i]:
-            k += 1
-        if i >= first:
-            u = (t[i] - centre[k - 1]) / sigma
-            arg_prev[i - first] = -0.5 * u * u
-            j_prev[i - first] = k - 1
-        if i < len(arg_next):
-            u = (t[i] - centre[k]) / sigma
-            arg_next[i] = -0.5 * u * u
-            j_next[i] = k
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _add_pulses(out, first, scale, j_prev, e_prev, j_next, e_next):  # pragma: no cover - compiled
-    """out[first:] −= the pulses before, then out[:len(e_next)] −= those after."""
-    for k in range(len(e_prev)):
-        out[first + k] -= scale[j_prev[k]] * e_prev[k]
-    for k in range(len(e_next)):
-        out[k] -= scale[j_next[k]] * e_next[k]
 
 
 @dataclass(kw_only=True, frozen=True)
@@ -428,8 +325,15 @@ def walk(
     v_cruise = params.speed_mps if params.speed_mps is not None else route.speed
     height = params.height_m
     omega_lim = _YAW_MARGIN * math.radians(params.max_yaw_rate_dps)
-    path = _Path.build(
-        route.points, plan, params, float(step_length_m(v_cruise, height)), omega_lim
+    # The line walked (path.py), with its turns on the spot and random stops.
+    path = SmoothPath.build(
+        route.points,
+        plan,
+        step_m=float(step_length_m(v_cruise, height)),
+        omega_lim=omega_lim,
+        turn_steps_per_90deg=params.turn_steps_per_90deg,
+        pivot_turn_deg=params.pivot_turn_deg,
+        clearance_m=params.wall_distance_m,
     ).keep_off_walls(plan, params.wall_distance_m)
     dwells = _dwells(path, params, v_cruise, omega_lim, rng)
     speed_factor = _speed_fluctuation(path.length, params, rng)
@@ -456,7 +360,7 @@ def walk(
     timeline = _Timeline(bouts, dwells)
     duration = t_now + params.stand_end_s
 
-    # Macro track: the pymunk body steered through the planned knots, then C².
+    # Macro track: the pymunk body steered through the planned knots (physics.py), then C².
     dt_phys = 1.0 / params.physics_rate_hz
     # A few samples past a cut keep the derived speed central at the cut itself.
     end = duration if until_s is None else min(duration, max(until_s, 0.0) + 0.05)
@@ -465,49 +369,42 @@ def walk(
     # cubic spline's end condition fades by ~4× per knot).
     phys_end = min(duration, end + _SPLINE_TAIL_S)
     t_phys = np.arange(math.ceil(phys_end / dt_phys) + 1) * dt_phys
-    track = _steer(plan, path.position(timeline.distance(t_phys)), dt_phys, params.body_radius_m)
+    track = steer(plan, path.position(timeline.distance(t_phys)), dt_phys, params.body_radius_m)
     t = np.arange(math.floor(end * rate_hz + 1e-9) + 1) / rate_hz
     macro = CubicSpline(t_phys, track, axis=0)(t)
 
-    # Intra-step motion on top, in the walking direction's frame.
+    # Intra-step motion on top, in the walking direction's frame (motion.py).
     phase = timeline.phase(t)
     env = timeline.envelope(t)
     heading = path.heading(timeline.distance(t)) + timeline.pivot_heading(t)
     stride = np.mod((phase - (1.0 if first_left else 0.0)) / 2.0, 1.0)
     steps = timeline.steps()
-    lengths = steps["length"].to_numpy()
     leg = PELVIS_HEIGHT_RATIO * height
-    durations = timeline.step_durations()
-    # Peak-to-peak bounce, capped where fast walking would make its vertical
-    # acceleration exceed half of g (the walk-to-run transition lies near g).
-    bounce = np.minimum(
-        params.bounce_fraction * lengths**2 / (8.0 * leg),
-        _G * (durations / (2.0 * np.pi)) ** 2,
+    within = intra_step_motion(
+        t,
+        phase=phase,
+        stride=stride,
+        envelope=env,
+        strike_t=steps["t"].to_numpy(),
+        step_lengths=steps["length"].to_numpy(),
+        step_durations=timeline.step_durations(),
+        leg_m=leg,
+        cruise_mps=v_cruise,
+        bounce_fraction=params.bounce_fraction,
+        speed_oscillation=params.speed_oscillation,
+        lateral_sway_m=params.lateral_sway_m,
+        trunk_yaw_deg=params.trunk_yaw_deg,
+        heel_strike_mps2=params.heel_strike_mps2,
+        rng=rng,
     )
-    swing = params.speed_oscillation * lengths / (2.0 * np.pi)  # forward swing amplitude
-    amp = _per_step_curve(np.column_stack([bounce, swing]), phase)
-    cyc = 2.0 * np.pi * (phase - _DOUBLE_SUPPORT_PHASE)
-    sway = rng.uniform(*params.lateral_sway_m)
-    yaw_amp = math.radians(rng.uniform(*params.trunk_yaw_deg))
-    hs_t = steps["t"].to_numpy()
-    # Gentler impacts on slow steps (gait initiation, turns), with a little scatter.
-    hs_up = (
-        rng.uniform(*params.heel_strike_mps2)
-        * np.clip(lengths / durations / v_cruise, 0.3, 1.3)
-        * rng.uniform(0.85, 1.15, len(hs_t))
-    )
-    # The heel strike jolts the pelvis up and brakes it at half that.
-    jolt = impulse_displacement(t, hs_t, hs_up)
-    fwd = env * amp[:, 1] * np.sin(cyc) - 0.5 * jolt
-    lat = env * sway * np.sin(2.0 * np.pi * stride)
-    up = -0.5 * env * amp[:, 0] * np.cos(cyc) + jolt
+    fwd, lat = within.forward, within.lateral
     ch, sh = np.cos(heading), np.sin(heading)
     # x and y as contiguous rows: np.gradient along rows is cheaper than down
     # the columns of (K, 3) positions (the same values).
     xy = np.empty((2, len(t)))
     xy[0] = macro[:, 0] + fwd * ch - lat * sh
     xy[1] = macro[:, 1] + fwd * sh + lat * ch
-    pos = np.column_stack([xy[0], xy[1], leg + up])
+    pos = np.column_stack([xy[0], xy[1], leg + within.up])
     vel = np.gradient(xy, t, axis=1)
     if end < duration:
         steps = steps[steps["t"] <= t[-1]].reset_index(drop=True)
@@ -515,7 +412,7 @@ def walk(
         t=t,
         pos=pos,
         heading=heading,
-        yaw=heading + env * yaw_amp * np.cos(2.0 * np.pi * stride),
+        yaw=heading + within.trunk_yaw,
         speed=np.hypot(vel[0], vel[1]),
         step_phase=phase,
         stride_phase=stride,
@@ -525,511 +422,6 @@ def walk(
         height_m=height,
         rate_hz=float(rate_hz),
     )
-
-
-# ---------------------------------------------------------------------- path
-
-
-_UnitTurn = tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], float]
-
-
-@functools.lru_cache(maxsize=64)
-def _turn_grid(n: int) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """What a unit turn at n points takes from its parameter alone: u (4(n − 1) + 1
-    points on [0, 1]), u − sin(2πu)/2π, and sin²(πu) at every 4th u."""
-    u = np.linspace(0.0, 1.0, 4 * (n - 1) + 1)
-    shape = u - np.sin(2.0 * np.pi * u) / (2.0 * np.pi)
-    bell = np.sin(np.pi * u[::4]) ** 2
-    for a in (u, shape, bell):
-        a.flags.writeable = False
-    return u, shape, bell
-
-
-# Unit turns by (φ, n), most recently used last: routes pass many of their
-# corners more than once. The lock keeps the bookkeeping whole under threads.
-_UNIT_TURNS: dict[tuple[float, int], _UnitTurn] = {}
-_UNIT_TURNS_SIZE = 256
-_UNIT_TURNS_LOCK = threading.Lock()
-
-
-def _unit_turns(keys: list[tuple[float, int]]) -> list[_UnitTurn]:
-    """Turns by φ rad over unit length, from the origin heading +x, at n points,
-    for each (φ, n) in ``keys``.
-
-    Curvature 2φ·sin²(πu) for u in [0, 1], hence heading φ·(u − sin(2πu)/2π).
-    Those not cached are computed together: the headings' cosines and sines
-    in one call, the trapezoid integrals of the turns side by side in one
-    array (each row's cumulative sum is that of the turn alone, so the same
-    values as one turn at a time). Read-only arrays.
-
-    Returns:
-        For each key: (n, 2) points, (n,) heading, (n,) curvature, and the
-        tangent length: the distance from either end to the corner where the
-        two legs meet.
-    """
-    with _UNIT_TURNS_LOCK:
-        found = {key: _UNIT_TURNS.pop(key) for key in keys if key in _UNIT_TURNS}
-        _UNIT_TURNS.update(found)  # now the most recent
-    missing = list(dict.fromkeys(key for key in keys if key not in found))
-    if missing:
-        grids = [_turn_grid(n) for _, n in missing]
-        sizes = np.array([len(u) for u, _, _ in grids])
-        theta = np.repeat([phi for phi, _ in missing], sizes) * np.concatenate(
-            [shape for _, shape, _ in grids]
-        )
-        # The turns as rows, padded with u = 1 (no further area) after their ends.
-        inside = np.arange(sizes.max()) < sizes[:, None]
-        u = np.ones(inside.shape)
-        u[inside] = np.concatenate([grid_u for grid_u, _, _ in grids])
-        cos_sin = np.zeros((2, *inside.shape))
-        cos_sin[:, inside] = np.stack([np.cos(theta), np.sin(theta)])
-        xy = cumulative_trapezoid(cos_sin, u[None], initial=0.0)
-        starts = np.cumsum(sizes) - sizes
-        for k, (phi, n) in enumerate(missing):
-            turn_xy = np.ascontiguousarray(xy[:, k, : sizes[k] : 4].T)
-            turn_theta = theta[starts[k] : starts[k] + sizes[k] : 4].copy()
-            kappa = 2.0 * phi * grids[k][2]
-            for a in (turn_xy, turn_theta, kappa):
-                a.flags.writeable = False
-            # The curve is symmetric about the corner's bisector: its end lies
-            # at corner + T·(cos φ, sin φ) with the corner at (T, 0).
-            tangent = float(turn_xy[-1, 0] / (1.0 + math.cos(phi)))
-            found[(phi, n)] = (turn_xy, turn_theta, kappa, tangent)
-        with _UNIT_TURNS_LOCK:
-            for key in missing:
-                _UNIT_TURNS[key] = found[key]
-            while len(_UNIT_TURNS) > _UNIT_TURNS_SIZE:
-                del _UNIT_TURNS[next(iter(_UNIT_TURNS))]
-    return [found[key] for key in keys]
-
-
-def _place(
-    unit_xy: NDArray[np.float64], length: float, start: NDArray[np.float64], angle: float
-) -> NDArray[np.float64]:
-    """Scale a unit curve to ``length``, rotate it to ``angle`` and move it to ``start``."""
-    c, s = math.cos(angle), math.sin(angle)
-    return start + (unit_xy * length) @ np.array([[c, s], [-s, c]])
-
-
-def _turn_lengths(
-    phi: NDArray[np.float64],
-    corners: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
-    preferred: NDArray[np.float64],
-    room: NDArray[np.float64],
-    boundary: shapely.Geometry,
-    clearance: float,
-) -> NDArray[np.float64]:
-    """Longest curve length up to ``preferred`` that fits the legs and the walls, for
-    each corner (turn ``phi``, vertex, unit directions in and out, all (m, ...)).
-
-    The curve must keep ``clearance`` from the walkable area's boundary, or at
-    least as much as the polyline corner it replaces keeps. Each corner's
-    search shrinks its curve until it fits (at most _TURN_TRIES times); the
-    corners still searching are tested together, one round per try, with the
-    arithmetic of one corner at a time (so the same lengths).
-    """
-    vertex, d_in, d_out = corners
-    if len(phi) == 0:
-        return np.zeros(0)
-    # The turns at 33 points (as _unit_turns computes them), all at once.
-    u = np.linspace(0.0, 1.0, 129)
-    theta = phi[:, None] * (u - np.sin(2.0 * np.pi * u) / (2.0 * np.pi))
-    xy = cumulative_trapezoid(np.stack([np.cos(theta), np.sin(theta)]), u, initial=0.0)
-    unit_xy = np.moveaxis(xy[:, :, ::4], 0, -1)
-    tangent = unit_xy[:, -1, 0] / (1.0 + np.array([math.cos(p) for p in phi.tolist()]))
-    length = np.minimum(preferred, room / tangent)
-    rotation = np.array(
-        [
-            [[math.cos(a), math.sin(a)], [-math.sin(a), math.cos(a)]]
-            for a in np.arctan2(d_in[:, 1], d_in[:, 0]).tolist()
-        ]
-    ).reshape(-1, 2, 2)
-    active = np.arange(len(phi))
-    for _ in range(_TURN_TRIES):
-        k = active
-        start = vertex[k] - d_in[k] * tangent[k, None] * length[k, None]
-        end = vertex[k] + d_out[k] * tangent[k, None] * length[k, None]
-        corner_xy = np.stack([start, vertex[k], end], axis=1)
-        # Only the boundary near the corner matters: distances beyond the
-        # clearance are never binding.
-        lo, hi = corner_xy.min(axis=1) - clearance, corner_xy.max(axis=1) + clearance
-        near = np.array(
-            [
-                shapely.clip_by_rect(boundary, x0, y0, x1, y1)
-                for x0, y0, x1, y1 in np.column_stack([lo, hi]).tolist()
-            ]
-        )
-        open_ = ~shapely.is_empty(near)
-        k, near, start, corner_xy = k[open_], near[open_], start[open_], corner_xy[open_]
-        need = np.minimum(clearance, shapely.distance(near, shapely.linestrings(corner_xy)))
-        # The curves, scaled, rotated and moved into place (as _place does).
-        curve = start[:, None, :] + (unit_xy[k] * length[k, None, None]) @ rotation[k]
-        fits = shapely.distance(near, shapely.linestrings(curve)) >= need - 1e-9
-        active = k[~fits]
-        length[active] *= _TURN_SHRINK
-        if len(active) == 0:
-            break
-    return length
-
-
-def _smooth_pushes(
-    where: NDArray[np.intp], push: NDArray[np.float64], sigma: float, out: NDArray[np.float64]
-) -> None:
-    """Add to the (n, 2) ``out`` the pushes placed at rows ``where`` (sorted) and
-    smoothed along the path (Gaussian of ``sigma`` samples, nearest-value ends).
-
-    Each stretch of pushed rows is filtered on its own, from 2·radius before its
-    first push to 2·radius after its last (elsewhere the result is zero), and
-    overlapping stretches add up: :func:`_filter_stretches`, which does
-    ``scipy.ndimage.gaussian_filter1d``'s arithmetic in one compiled call
-    instead of one scipy call per stretch, and adds each row in place (the
-    same sums as adding the smoothed pushes as a whole).
-    """
-    n = len(out)
-    weights = _gaussian_weights(sigma)
-    radius = len(weights) - 1
-    breaks = np.flatnonzero(np.diff(where) > 2 * radius + 1)
-    firsts, lasts = np.r_[0, breaks + 1], np.r_[breaks, len(where) - 1]
-    lo = np.maximum(0, where[firsts] - 2 * radius)
-    hi = np.minimum(n, where[lasts] + 2 * radius + 1)
-    _filter_stretches(where, np.ascontiguousarray(push), firsts, lasts, lo, hi, weights, out)
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _maybe_close(base, offset, watch, slack):  # pragma: no cover - compiled
-    """The watched rows (indices into ``watch``) whose offset has used up their slack,
-    |x| + |y| ≥ slack, and where those points are now (base + offset): one pass
-    instead of gathering every watched row's offset."""
-    rows = np.empty(len(watch), dtype=np.intp)
-    count = 0
-    for i in range(len(watch)):
-        r = watch[i]
-        if abs(offset[r, 0]) + abs(offset[r, 1]) >= slack[i]:
-            rows[count] = i
-            count += 1
-    pts = np.empty((count, 2))
-    for k in range(count):
-        r = watch[rows[k]]
-        pts[k, 0] = base[r, 0] + offset[r, 0]
-        pts[k, 1] = base[r, 1] + offset[r, 1]
-    return rows[:count], pts
-
-
-@functools.lru_cache(maxsize=8)
-def _gaussian_weights(sigma: float) -> NDArray[np.float64]:
-    """Weights of ``gaussian_filter1d(x, sigma)`` (default truncation) from the centre
-    outwards, read off its response to a unit impulse (exact: all other terms are 0)."""
-    radius = int(4.0 * sigma + 0.5)
-    impulse = np.zeros(2 * radius + 1)
-    impulse[radius] = 1.0
-    weights = gaussian_filter1d(impulse, sigma)[radius:]
-    weights.flags.writeable = False
-    return weights
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _filter_stretches(where, push, firsts, lasts, lo, hi, w, out):  # pragma: no cover - compiled
-    """out[lo[c]:hi[c]] += stretch c (pushes where[firsts[c]:lasts[c] + 1]) filtered.
-
-    Row i of a stretch x (extended by its end values) becomes
-    x[i]·w[0] + Σ (x[i − j] + x[i + j])·w[j], j from the radius down to 1:
-    gaussian_filter1d's sum, in its order, so the result is the same to the
-    bit. Rows farther than the radius from every push are 0 and add nothing
-    (``out`` starts at +0.0 and so never holds −0.0), so they are skipped. The
-    rows one stretch reaches lie more than a radius from the next stretch's
-    pushes, so each row gets at most one sum: adding in place gives what adding
-    all the smoothed pushes at once would. The loop over rows is innermost,
-    where the compiler vectorises it.
-    """
-    r = len(w) - 1
-    for c in range(len(firsts)):
-        first, last, a, b = firsts[c], lasts[c], lo[c], hi[c]
-        size = b - a
-        # The rows within reach of a push (relative to a).
-        k0, k1 = max(where[first] - r, a) - a, min(where[last] + r + 1, b) - a
-        m = k1 - k0
-        for col in range(2):
-            x = np.zeros(size + 2 * r)  # the stretch, padded by r at both ends
-            for i in range(first, last + 1):
-                x[where[i] - a + r] = push[i, col]
-            x[:r] = x[r]
-            x[size + r :] = x[size + r - 1]
-            start = k0 + r  # x index of row k0
-            acc = np.empty(m)
-            for k in range(m):
-                acc[k] = x[start + k] * w[0]
-            for j in range(r, 0, -1):
-                left, right, wj = x[start - j : start - j + m], x[start + j : start + j + m], w[j]
-                for k in range(m):
-                    acc[k] += (left[k] + right[k]) * wj
-            dest = out[a + k0 : a + k1, col]
-            for k in range(m):
-                dest[k] += acc[k]
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _window_max(knots, value, first, a, b, floor, out):  # pragma: no cover - compiled
-    """out[i] = max(floor[i], |value| at the knots in [a[i], b[i]]), for ascending a
-    and b; ``first`` is the first knot at or after a[0].
-
-    A monotone deque of knot indices (|value| decreasing from its head) holds
-    the candidates of the current window; each knot enters and leaves it once.
-    """
-    queue = np.empty(len(knots) - first, dtype=np.intp)
-    head, tail, nxt = 0, 0, first
-    for i in range(len(a)):
-        while nxt < len(knots) and knots[nxt] <= b[i]:
-            while tail > head and abs(value[queue[tail - 1]]) <= abs(value[nxt]):
-                tail -= 1
-            queue[tail] = nxt
-            tail += 1
-            nxt += 1
-        while tail > head and knots[queue[head]] < a[i]:
-            head += 1
-        out[i] = floor[i]
-        if tail > head and abs(value[queue[head]]) > out[i]:
-            out[i] = abs(value[queue[head]])
-
-
-def _drop_short_legs(pts: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The polyline without vertices within _MIN_LEG_M of the one kept before them.
-
-    The end points stay; a vertex just before the end gives way to it.
-    """
-    # Usually every leg is long enough (with a margin for rounding): then
-    # nothing is dropped, and the loop below need not run.
-    if len(pts) >= 2 and np.all(np.hypot(*np.diff(pts, axis=0).T) > _MIN_LEG_M * (1.0 + 1e-9)):
-        return pts.copy()
-    keep = [0]
-    for i in range(1, len(pts) - 1):
-        if np.linalg.norm(pts[i] - pts[keep[-1]]) >= _MIN_LEG_M:
-            keep.append(i)
-    if len(keep) > 1 and np.linalg.norm(pts[-1] - pts[keep[-1]]) < _MIN_LEG_M:
-        keep.pop()
-    return pts[[*keep, len(pts) - 1]]
-
-
-@dataclass(frozen=True)
-class _Path:
-    """The smoothed route as knots along its length, linearly interpolated
-    (the heading cubically, with the curvature as its slope, so that the
-    heading rate is continuous).
-
-    ``theta`` leaves out the turns taken on the spot (``pivots``: distance
-    along the path, heading change); those are added in time while the walker
-    stands at the corner.
-    """
-
-    s: NDArray[np.float64]
-    xy: NDArray[np.float64]
-    theta: NDArray[np.float64]
-    kappa: NDArray[np.float64]
-    pivots: tuple[tuple[float, float], ...]
-
-    @property
-    def length(self) -> float:
-        return float(self.s[-1])
-
-    def position(self, s: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.column_stack(
-            [np.interp(s, self.s, self.xy[:, 0]), np.interp(s, self.s, self.xy[:, 1])]
-        )
-
-    def heading(self, s: NDArray[np.float64]) -> NDArray[np.float64]:
-        return _hermite(self.s, self.theta, self.kappa)(s)
-
-    def max_curvature(self, s: NDArray[np.float64], half_width: float) -> NDArray[np.float64]:
-        """Largest |curvature| within ``half_width`` of each distance in ``s`` (exact;
-        ``s`` ascending).
-
-        Curvature is linear between knots, so the maximum over a window is at a
-        knot inside it or at one of its ends. The knots inside are covered by a
-        sliding-window maximum, so even a curve far shorter than the window is
-        never missed.
-        """
-        a, b = s - half_width, s + half_width
-        edges = np.maximum(
-            np.abs(np.interp(a, self.s, self.kappa)), np.abs(np.interp(b, self.s, self.kappa))
-        )
-        out = np.empty(len(s))
-        first = int(np.searchsorted(self.s, a[0])) if len(s) else 0
-        _window_max(self.s, self.kappa, first, a, b, edges, out)
-        return out
-
-    def keep_off_walls(self, plan: FloorPlan, distance: float) -> _Path:
-        """This path, bent smoothly away from the walkable area's boundary where
-        it comes closer than ``distance``.
-
-        Each round pushes every point that is too close straight away from its
-        nearest boundary point by its shortfall, and smooths the pushes along
-        the path with a Gaussian (σ = 0.3 m) so the track stays smooth; pushes
-        from opposite walls cancel, so a narrow passage is walked in its
-        middle. Smoothing spreads a short push thin, so a sharp corner is
-        cleared only partly: the pymunk body is the hard limit. Headings turn by
-        the angle the push adds to the path's direction. Returns the path
-        unchanged when nothing is too close.
-        """
-        if distance <= 0 or len(plan.walkable_edges) == 0:
-            return self
-        # Which metres of the path come near anything? One cheap query on points
-        # every 0.2 m (with half that as margin for the chords between them).
-        metres = math.ceil(self.length)
-        coarse = self.position(np.minimum(np.linspace(0.0, metres, 5 * metres + 1), self.length))
-        close = ~np.isnan(plan.nearest_boundary(coarse, distance + 0.11)[:, 0])
-        hit = np.unique(np.minimum(np.flatnonzero(close) // 5, metres - 1)).astype(float)
-        if len(hit) == 0:
-            return self
-        n = max(2, math.ceil(self.length / _KEEP_DS_M) + 1)
-        s = np.linspace(0.0, self.length, n)
-        # Pivot corners become knots (in place of their nearest grid point, so
-        # the spacing stays even).
-        for p, _ in self.pivots:
-            s[np.clip(round(p / self.length * (n - 1)), 1, n - 2)] = p
-        base = self.position(s)
-        offset = np.zeros_like(base)
-        # Points that may need a push: the hit metres and the smoothing's reach.
-        reach = 4.0 * _KEEP_SMOOTH_M
-        cover = np.zeros(len(s) + 1, dtype=int)
-        np.add.at(cover, np.searchsorted(s, hit - reach), 1)
-        np.add.at(cover, np.searchsorted(s, hit + 1.0 + reach), -1)
-        watch = np.flatnonzero(np.cumsum(cover)[:-1] > 0)
-        sigma = _KEEP_SMOOTH_M / _KEEP_DS_M
-        # One scan a little beyond ``distance`` gives each watched point its
-        # slack: how much nearer the boundary it would have to come to be too
-        # close. A point moves by its offset (at most |x| + |y| of it), so only
-        # points whose offset has used up their slack can be too close; only
-        # those are queried (the rest would surely find nothing: the margin
-        # covers rounding), which gives the same pushes as querying them all.
-        base_w = base[watch]
-        scan_m = distance + _KEEP_SCAN_M
-        seen = plan.nearest_boundary(base_w, scan_m)
-        gap0 = np.where(np.isnan(seen[:, 0]), scan_m, np.linalg.norm(base_w - seen, axis=1))
-        slack = gap0 - distance - 1e-6
-        for _ in range(_KEEP_ROUNDS):
-            maybe, pts = _maybe_close(base, offset, watch, slack)
-            # Each point is pushed from its nearest boundary point only.
-            nearest = plan.nearest_boundary(pts, distance)
-            near = np.flatnonzero(~np.isnan(nearest[:, 0]))
-            if len(near) == 0:
-                break
-            away = pts[near] - nearest[near]
-            gap = np.linalg.norm(away, axis=1)
-            scale = (distance - gap) / np.maximum(gap, 1e-12)
-            _smooth_pushes(watch[maybe[near]], away * scale[:, None], sigma, offset)
-        if not offset.any():
-            return self
-        moved = base + offset
-        d_old, d_new = np.diff(base, axis=0), np.diff(moved, axis=0)
-        s_new = _cumsum0(np.linalg.norm(d_new, axis=1))
-        # How far the push turns each chord, averaged onto the knots (chords,
-        # not central differences, so that a pivot's corner adds no spike).
-        turn = np.arctan2(
-            d_old[:, 0] * d_new[:, 1] - d_old[:, 1] * d_new[:, 0],
-            np.einsum("ij,ij->i", d_old, d_new),
-        )
-        theta = self.heading(s) + np.r_[turn[0], 0.5 * (turn[:-1] + turn[1:]), turn[-1]]
-        return _Path(
-            s=s_new,
-            xy=moved,
-            theta=theta,
-            kappa=np.gradient(theta, s_new),
-            pivots=tuple((float(np.interp(p, s, s_new)), dth) for p, dth in self.pivots),
-        )
-
-    @classmethod
-    def build(
-        cls,
-        pts: NDArray[np.float64],
-        plan: FloorPlan,
-        params: WalkerParams,
-        step_m: float,
-        omega_lim: float,
-    ) -> _Path:
-        """Smooth the polyline ``pts``.
-
-        Args:
-            pts: the route's vertices.
-            plan: the floor plan, for the clearance of the turns.
-            params: the walker.
-            step_m: the cruising step length.
-            omega_lim: the yaw rate (rad/s) the turns are planned for.
-        """
-        pts = _drop_short_legs(pts)
-        d = np.diff(pts, axis=0)
-        legs = np.linalg.norm(d, axis=1)
-        unit = d / legs[:, None]
-        ang = np.arctan2(d[:, 1], d[:, 0])
-        turns = np.angle(np.exp(1j * np.diff(ang)))  # wrapped to (−π, π]
-        boundary = plan.walkable.boundary
-        pivot_rad = math.radians(params.pivot_turn_deg)
-        # Knot rows (s, x, y, heading without pivots, curvature), in blocks.
-        blocks = [np.array([[0.0, *pts[0], ang[0], 0.0]])]
-        pivots: list[tuple[float, float]] = []
-        theta = float(ang[0])
-
-        def line_to(p: NDArray[np.float64]) -> None:
-            s0, x0, y0 = blocks[-1][-1, :3]
-            ds = math.hypot(p[0] - x0, p[1] - y0)
-            if ds > 1e-12:
-                blocks.append(np.array([[s0 + ds, p[0], p[1], theta, 0.0]]))
-
-        # The corners turned while walking, and their curves' lengths (found
-        # for all corners at once).
-        turned = np.flatnonzero((np.abs(turns) >= 1e-9) & (np.abs(turns) <= pivot_rad))
-        room = np.minimum(
-            np.where(turned == 0, legs[turned], 0.5 * legs[turned]),
-            np.where(turned + 2 == len(legs), legs[turned + 1], 0.5 * legs[turned + 1]),
-        )
-        fitted = np.full(len(turns), np.nan)
-        fitted[turned] = _turn_lengths(
-            turns[turned],
-            (pts[turned + 1], unit[turned], unit[turned + 1]),
-            params.turn_steps_per_90deg * np.sqrt(np.abs(turns[turned]) / (math.pi / 2)) * step_m,
-            room,
-            boundary,
-            params.wall_distance_m,
-        )
-
-        # Where the curve would have to be so tight that it could only be
-        # walked at a crawl, people stop and turn on the spot instead. The
-        # other corners' curves (their unit turns computed together).
-        curves = {}
-        for j in turned.tolist():
-            phi, length = turns[j], fitted[j]
-            if omega_lim * length / (2.0 * abs(phi)) >= _PIVOT_BELOW_MPS:
-                curves[j] = (float(phi), max(9, math.ceil(length / _CURVE_DS_M) + 1))
-        unit_turns = dict(zip(curves, _unit_turns(list(curves.values())), strict=True))
-
-        for j, phi in enumerate(turns):
-            vertex = pts[j + 1]
-            if abs(phi) < 1e-9:  # collinear: nothing to turn
-                continue
-            if j not in curves:  # sharper than a pivot turn, or too cramped to walk
-                line_to(vertex)
-                pivots.append((float(blocks[-1][-1, 0]), float(phi)))
-                continue
-            length = fitted[j]
-            n = curves[j][1]
-            unit_xy, unit_th, unit_ka, tangent = unit_turns[j]
-            start = vertex - unit[j] * tangent * length
-            line_to(start)
-            xy = _place(unit_xy, length, start, float(ang[j]))
-            blocks.append(
-                np.column_stack(
-                    [
-                        blocks[-1][-1, 0] + np.linspace(0.0, length, n)[1:],
-                        xy[1:],
-                        theta + unit_th[1:],
-                        unit_ka[1:] / length,
-                    ]
-                )
-            )
-            theta += float(phi)
-        line_to(pts[-1])
-        arr = np.concatenate(blocks)
-        return cls(
-            s=arr[:, 0], xy=arr[:, 1:3], theta=arr[:, 3], kappa=arr[:, 4], pivots=tuple(pivots)
-        )
 
 
 # ---------------------------------------------------------------------- timing
@@ -1045,7 +437,7 @@ class _Dwell:
 
 
 def _dwells(
-    path: _Path,
+    path: SmoothPath,
     params: WalkerParams,
     v_cruise: float,
     omega_lim: float,
@@ -1102,7 +494,7 @@ class _Bout:
     @classmethod
     def plan(
         cls,
-        path: _Path,
+        path: SmoothPath,
         span: tuple[float, float],
         start: tuple[float, int, bool],
         v_cruise: float,
@@ -1141,7 +533,7 @@ class _Bout:
         v, dtau = np.empty(len(grid)), np.empty(len(grid) - 1)
         _speed_profile(grid, v_lim, s_a, 2.0 * params.max_accel_mps2, v, dtau)
         # Time along the profile (exact for constant acceleration between knots).
-        tau = _cumsum0(dtau)
+        tau = cumsum0(dtau)
 
         # Nominal heel strikes: integer crossings of the cadence phase, with the
         # phase stretched so that the last step ends exactly at the bout's end.
@@ -1172,14 +564,14 @@ class _Bout:
             lengths[:-1] *= (total - last_min) / head
         lengths[-1] = total - lengths[:-1].sum()
 
-        s_knots = s_a + _cumsum0(lengths)
+        s_knots = s_a + cumsum0(lengths)
         s_knots[-1] = s_b
         # A step that came out fast enough to break the yaw-rate limit on a
         # curve takes longer instead (as a walker slows into a turn). Checked
         # against the step-wide curvature bound, with a little room left.
         omega_max = 0.97 * math.radians(params.max_yaw_rate_dps)
         for _ in range(5):
-            t_knots = t0 + _cumsum0(times)
+            t_knots = t0 + cumsum0(times)
             distance = _knot_spline(t_knots, s_knots, natural=False)
             tt = t_knots[:-1, None] + times[:, None] * _STEP_FRACTIONS
             rate = np.interp(distance(tt), grid, kappa) * np.abs(distance(tt, 1))
@@ -1212,8 +604,8 @@ def _speed_profile(grid, v_lim, s_a, two_a, v, dtau):  # pragma: no cover - comp
     same operations as the array expressions they replace.
     """
     n = len(grid)
-    x = np.empty(n)
-    w = np.empty(n)
+    x = np.empty(n)  # 2a·(s − s_a)
+    w = np.empty(n)  # v²: the cap squared, then after each sweep
     for i in range(n):
         x[i] = two_a * (grid[i] - s_a)
         w[i] = 0.0 if i == 0 or i == n - 1 else v_lim[i] * v_lim[i]
@@ -1263,27 +655,7 @@ def _knot_spline(x: NDArray[np.float64], y: NDArray[np.float64], natural: bool) 
     *_, dydx, info = dgtsv(ab[2, :-1], ab[1], ab[0, 1:], rhs[:, None], 1, 1, 1, 1)
     if info != 0:
         raise np.linalg.LinAlgError("singular matrix")
-    return _hermite(x, y, dydx[:, 0])
-
-
-def _hermite(x: NDArray[np.float64], y: NDArray[np.float64], dydx: NDArray[np.float64]) -> PPoly:
-    """``CubicHermiteSpline(x, y, dydx)`` for 1-D data: the same coefficients, without
-    its input checks (but for increasing ``x``) and array-API dispatch."""
-    dx = np.diff(x)
-    if not np.all(dx > 0):
-        raise ValueError("`x` must be strictly increasing sequence.")
-    slope = np.diff(y) / dx
-    t = (dydx[:-1] + dydx[1:] - 2 * slope) / dx
-    c = np.stack((t / dx, (slope - dydx[:-1]) / dx - t, dydx[:-1], y[:-1]))
-    return PPoly.construct_fast(c, np.ascontiguousarray(x, dtype=float))
-
-
-def _cumsum0(x: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``np.r_[0.0, np.cumsum(x)]``, without np.r_'s parsing (it costs more than the sum)."""
-    out = np.empty(len(x) + 1)
-    out[0] = 0.0
-    np.cumsum(x, out=out[1:])
-    return out
+    return hermite_spline(x, y, dydx[:, 0])
 
 
 def _bounded_ratio(x: NDArray[np.float64], ratio: float) -> NDArray[np.float64]:
@@ -1368,104 +740,3 @@ class _Timeline:
 
     def step_durations(self) -> NDArray[np.float64]:
         return np.concatenate([np.diff(b.t_knots) for b in self.bouts])
-
-
-# ---------------------------------------------------------------------- motion
-
-
-def _steer(
-    plan: FloorPlan, ref: NDArray[np.float64], dt: float, radius: float
-) -> NDArray[np.float64]:
-    """Drive a pymunk disc through the reference positions ``ref`` (one per ``dt``).
-
-    A kinematic control body carries the plan; a pivot joint of bounded force
-    drags the disc after it, and the walkable area's boundary, as static
-    segments, stops it. The control body runs one step ahead, because pymunk
-    moves bodies with the velocity solved in the previous step: without a wall
-    in the way the disc lands exactly on every reference point. Once a wall has
-    held it back, the joint pulls it back onto the plan at a bounded speed.
-    """
-    space = pymunk.Space()
-    space.collision_slop = 1e-3  # pymunk's default (0.1) is in metres here: far too loose
-    walls = []
-    for a, b in plan.walkable_edges.tolist():
-        seg = pymunk.Segment(space.static_body, a, b, 0.0)
-        seg.friction = 0.0
-        walls.append(seg)
-    space.add(*walls)  # in one call: pymunk's add costs more per call than per shape
-    mass = 70.0
-    body = pymunk.Body(mass, math.inf)  # the disc never spins: heading is planned
-    disc = pymunk.Circle(body, radius)
-    disc.friction = 0.0
-    control = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-    joint = pymunk.PivotJoint(control, body, (0.0, 0.0), (0.0, 0.0))
-    joint.max_force = mass * _MAX_STEER_ACCEL
-    joint.max_bias = _TRACK_MAX_CORRECTION
-    space.add(body, disc, control, joint)
-
-    vel = np.zeros_like(ref)
-    vel[:-1] = np.diff(ref, axis=0) / dt
-    lead = ref - vel * dt
-    body.position = tuple(ref[0])
-    body.velocity = tuple(vel[0])
-    out = np.empty_like(ref)
-    out[0] = ref[0]
-    if len(ref) > 1:
-        control.position = tuple(lead[1])
-        control.velocity = tuple(vel[1])
-        space.step(dt)  # the first step through pymunk: it checks the bodies once
-        out[1] = tuple(body.position)
-    # Then Chipmunk directly: pymunk's property and step wrappers cost more than
-    # the physics over thousands of steps, and this space has no callbacks,
-    # additions or removals for them to handle (the results are identical).
-    # Flat lists of floats, not lists of pairs: thousands of small containers
-    # would keep the garbage collector busy.
-    c_space, c_control, c_body = space._space, control._body, body._body
-    lx, ly = lead[:, 0].tolist(), lead[:, 1].tolist()
-    vx, vy = vel[:, 0].tolist(), vel[:, 1].tolist()
-    rx, ry = ref[:, 0].tolist(), ref[:, 1].tolist()
-    # Where the plan keeps the disc clear of every wall (with room for a step's
-    # travel), a disc that is on its track stays on it: no contact can arise,
-    # so those stretches are copied rather than stepped.
-    step = float(np.max(np.linalg.norm(vel, axis=1))) * dt if len(ref) > 1 else 0.0
-    clear = np.isnan(plan.nearest_boundary(ref, radius + step + _STEER_CLEAR_M)[:, 0])
-    # The first sample at or after each one that is not clear.
-    blocked = np.where(clear, len(ref), np.arange(len(ref)))
-    run_end = np.minimum.accumulate(blocked[::-1])[::-1].tolist()
-    k, n = 2, len(ref)
-    while k < n:
-        end = run_end[k]
-        if end - k >= _STEER_MIN_SKIP:
-            p = _CP.cpBodyGetPosition(c_body)
-            if abs(p.x - rx[k - 1]) + abs(p.y - ry[k - 1]) < _STEER_ON_TRACK_M:
-                out[k:end] = ref[k:end]
-                _CP.cpBodySetPosition(c_body, (rx[end - 1], ry[end - 1]))
-                _CP.cpBodySetVelocity(c_body, (vx[end - 1], vy[end - 1]))
-                k = end
-                continue
-        _CP.cpBodySetPosition(c_control, (lx[k], ly[k]))
-        _CP.cpBodySetVelocity(c_control, (vx[k], vy[k]))
-        _CP.cpSpaceStep(c_space, dt)
-        p = _CP.cpBodyGetPosition(c_body)
-        out[k, 0], out[k, 1] = p.x, p.y
-        k += 1
-    return out
-
-
-def _polygons(geom: shapely.Geometry) -> list[shapely.Polygon]:
-    if geom.is_empty:
-        return []
-    return list(getattr(geom, "geoms", [geom]))
-
-
-def _per_step_curve(values: NDArray[np.float64], phase: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Per-step quantities as C² functions of the step phase.
-
-    Knots at mid-step, plus the first and last values held at phase 0 and at
-    the last heel strike, so the phase (which never leaves that range) needs
-    no clipping, which would put kinks into the motion.
-    """
-    n = len(values)
-    knots = np.r_[0.0, np.arange(n) + 0.5, n]
-    held = np.concatenate([values[:1], values, values[-1:]])
-    return CubicSpline(knots, held, axis=0, bc_type="natural")(phase)

@@ -1,4 +1,7 @@
-"""Walker fixtures: an L-shaped corridor with a room behind a door, and a straight corridor."""
+"""Walker fixtures: an L-shaped corridor with a room behind a door, and a straight corridor.
+
+Also :func:`assert_inside`, the check that a body track keeps to the walkable area.
+"""
 
 from __future__ import annotations
 
@@ -74,3 +77,9 @@ def straight_body(corridor: FloorPlan) -> BodyTrajectory:
     route = plan_route(corridor, RouteSpec(waypoints=[(1.0, 1.5), (39.0, 1.5)], speed=1.3))
     params = WalkerParams(speed_cv=0.0, asymmetry=0.0)
     return walk(corridor, route, params, np.random.default_rng(11))
+
+
+def assert_inside(plan: FloorPlan, body: BodyTrajectory) -> None:
+    """Every sample of the body is walkable and no step between samples crosses a wall."""
+    assert plan.is_walkable(body.pos).all()
+    assert not plan.crosses_wall(body.pos[:-1], body.pos[1:]).any()

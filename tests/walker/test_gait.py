@@ -1,14 +1,11 @@
-"""Gait: physical invariants of the body track and the true step events."""
+"""Gait: the speed profile, the true step events and the walk they make up."""
 
 from __future__ import annotations
 
 import dataclasses
-import itertools
-import math
 
 import numpy as np
 import pytest
-import shapely
 
 from indoorsim.scenario import RouteSpec
 from indoorsim.walker.gait import (
@@ -16,29 +13,16 @@ from indoorsim.walker.gait import (
     BodyTrajectory,
     WalkerParams,
     cadence_hz,
-    impulse_displacement,
     step_length_m,
     walk,
 )
 from indoorsim.walker.route import Route, plan_route
-from indoorsim.world.plan import FloorPlan
-
-G = 9.81
 
 
 def _steady(body: BodyTrajectory, skip: int = 4) -> tuple[np.ndarray, np.ndarray]:
     """Step times and lengths away from the ends of the walk (gait initiation and stopping)."""
     t = body.steps["t"].to_numpy()
     return np.diff(t)[skip:-skip], body.steps["length"].to_numpy()[1:][skip:-skip]
-
-
-def _accel(body: BodyTrajectory) -> np.ndarray:
-    return np.diff(body.pos, 2, axis=0) * body.rate_hz**2
-
-
-def _assert_inside(plan: FloorPlan, body: BodyTrajectory) -> None:
-    assert plan.is_walkable(body.pos).all()
-    assert not plan.crosses_wall(body.pos[:-1], body.pos[1:]).any()
 
 
 # ---------------------------------------------------------------------- cadence
@@ -80,74 +64,6 @@ def test_higher_rates_sample_the_same_walk(corridor):
     np.testing.assert_allclose(np.diff(body.t), 1 / 400)
     assert body.t[0] == 0.0
     assert len(body.t) == len(body.pos) == len(body.heading) == len(body.moving)
-
-
-# ---------------------------------------------------------------------- walls
-
-
-def test_body_stays_in_the_walkable_area(l_plan, l_body):
-    _assert_inside(l_plan, l_body)
-
-
-def test_waypoint_route_round_the_corner_stays_inside(l_plan):
-    route = plan_route(l_plan, RouteSpec(waypoints=[(1.0, 1.0), (11.0, 1.0), (11.0, 9.0)]))
-    body = walk(l_plan, route, WalkerParams(stop_rate_per_min=3.0), np.random.default_rng(3))
-    _assert_inside(l_plan, body)
-
-
-def test_pymunk_keeps_the_body_off_a_wall_the_route_hugs(corridor):
-    """Waypoints 0.1 m from the wall face, no steering away: the body disc holds the track off."""
-    route = plan_route(corridor, RouteSpec(waypoints=[(1.0, 0.2), (20.0, 0.2)]))
-    params = WalkerParams(body_radius_m=0.25, wall_distance_m=0.0)
-    body = walk(corridor, route, params, np.random.default_rng(0))
-    _assert_inside(corridor, body)
-    settled = body.t > 1.0  # the disc starts overlapping the wall and is pushed out
-    # The wall face is at y = 0.1; lateral sway and pymunk's contact slop take a little.
-    assert body.pos[settled, 1].min() > 0.1 + 0.25 - 0.035
-
-
-def test_walker_keeps_its_distance_from_a_wall_the_route_hugs(corridor):
-    route = plan_route(corridor, RouteSpec(waypoints=[(1.0, 0.35), (20.0, 0.35)]))
-    params = WalkerParams()
-    body = walk(corridor, route, params, np.random.default_rng(0))
-    middle = (body.pos[:, 0] > 5.0) & (body.pos[:, 0] < 16.0)
-    gap = body.pos[middle, 1] - 0.1
-    assert np.median(gap) == pytest.approx(params.wall_distance_m, abs=0.03)
-    # Bending away is gentle: the heading never leaves the corridor's direction by much.
-    assert np.degrees(np.abs(body.heading)).max() < 10.0
-
-
-def test_random_routes_in_generated_buildings_stay_inside_and_within_the_yaw_limit():
-    from indoorsim.scenario import generate
-
-    rng = np.random.default_rng(0)
-    params = WalkerParams(stop_rate_per_min=2.0)
-    for kind in ("office", "basement"):
-        plan = FloorPlan(generate.generate(kind, seed=1))
-        free = plan.walkable.buffer(-0.5)
-        lo, hi = np.array(plan.bounds[:2]), np.array(plan.bounds[2:])
-        ends: list[tuple[float, float]] = []
-        while len(ends) < 6:
-            p = rng.uniform(lo, hi)
-            if free.contains(shapely.Point(p)):
-                ends.append((float(p[0]), float(p[1])))
-        for a, b in zip(ends[::2], ends[1::2], strict=True):
-            route = plan_route(plan, RouteSpec(start=a, goal=b))
-            body = walk(plan, route, params, np.random.default_rng(len(ends)))
-            _assert_inside(plan, body)
-            rate = np.degrees(np.abs(np.gradient(body.heading, body.t)))
-            assert rate.max() <= params.max_yaw_rate_dps
-            assert np.all(np.diff(body.step_phase) >= 0)
-
-
-def test_generated_office_routes_are_walked_inside_the_walls():
-    from indoorsim.scenario import generate
-
-    scenario = generate.generate("office", seed=5)
-    plan = FloorPlan(scenario)
-    for i, (name, spec) in enumerate(scenario.routes.items()):
-        body = walk(plan, plan_route(plan, spec, name), WalkerParams(), np.random.default_rng(i))
-        _assert_inside(plan, body)
 
 
 # ---------------------------------------------------------------------- steps
@@ -233,36 +149,7 @@ def test_stops_stand_still_without_steps(corridor):
     assert body.speed[core].max() < 0.01
 
 
-# ---------------------------------------------------------------------- motion
-
-
-def test_accelerations_are_physical(l_body, straight_body):
-    for body in (l_body, straight_body):
-        acc = _accel(body)
-        assert np.isfinite(acc).all()
-        assert np.linalg.norm(acc, axis=1).max() < 3 * G
-        specific = acc + np.array([0.0, 0.0, G])
-        assert np.linalg.norm(specific, axis=1).max() < 2 * G  # heel-strike peaks < 2 g
-
-
-def test_vertical_acceleration_swings_5_to_10_per_step(straight_body):
-    az = _accel(straight_body)[:, 2]
-    t = straight_body.t[1:-1]
-    strikes = straight_body.steps["t"].to_numpy()[4:-4]
-    swings = [np.ptp(az[(t >= a) & (t < b)]) for a, b in itertools.pairwise(strikes)]
-    assert 5.0 <= np.median(swings) <= 10.0
-
-
-def test_bounce_sway_and_trunk_yaw_amplitudes(straight_body):
-    body, params = straight_body, WalkerParams()
-    strikes = body.steps["t"].to_numpy()
-    core = (body.t > strikes[4]) & (body.t < strikes[-5])
-    z = body.pos[core, 2]
-    assert 0.035 <= np.ptp(z) <= 0.07  # 4–5 cm bounce plus heel-strike dips
-    lateral = body.pos[core, 1] - 1.5
-    assert params.lateral_sway_m[0] * 0.9 <= np.abs(lateral).max() <= params.lateral_sway_m[1] * 1.2
-    trunk = np.degrees(np.abs(body.yaw[core] - body.heading[core]).max())
-    assert params.trunk_yaw_deg[0] * 0.9 <= trunk <= params.trunk_yaw_deg[1] * 1.01
+# ---------------------------------------------------------------------- speed profile
 
 
 def test_turns_obey_the_yaw_rate_limit(l_plan, l_body):
@@ -275,34 +162,7 @@ def test_turns_obey_the_yaw_rate_limit(l_plan, l_body):
     assert np.degrees(np.abs(np.gradient(body.heading, body.t))).max() <= 60.0
 
 
-def test_a_right_angle_takes_a_few_steps_and_slows_the_walker(l_plan):
-    route = plan_route(l_plan, RouteSpec(waypoints=[(1.0, 1.0), (11.0, 1.0), (11.0, 9.0)]))
-    body = walk(l_plan, route, WalkerParams(speed_cv=0.0), np.random.default_rng(5))
-    turned = body.heading - body.heading[0]
-    t10, t90 = np.interp([0.1, 0.9], turned / (math.pi / 2), body.t)
-    steps_in_turn = np.diff(np.interp([t10, t90], body.t, body.step_phase))[0]
-    assert 1.0 <= steps_in_turn <= 3.0
-    cruise = body.speed[(body.t > 6) & (body.t < 8)].mean()
-    turning = body.speed[(body.t > t10) & (body.t < t90)].mean()
-    assert turning < cruise
-
-
-def test_sharp_reversal_turns_on_the_spot(corridor):
-    route = plan_route(corridor, RouteSpec(waypoints=[(2.0, 1.5), (10.0, 1.5), (3.0, 1.5)]))
-    body = walk(corridor, route, WalkerParams(), np.random.default_rng(0))
-    assert body.heading[-1] - body.heading[0] == pytest.approx(math.pi, abs=1e-9)
-    turning = np.abs(np.gradient(body.heading, body.t)) > 1e-3
-    assert not (turning & body.moving).any()
-    assert np.degrees(np.abs(np.gradient(body.heading, body.t))).max() <= 150.0
-    _assert_inside(corridor, body)
-
-
-def test_impulse_leaves_no_velocity_or_displacement():
-    t = np.arange(0, 2, 1 / 1000)
-    x = impulse_displacement(t, np.array([0.5, 1.2]), np.array([3.0, 2.0]))
-    acc = np.gradient(np.gradient(x, t), t)
-    assert acc.max() == pytest.approx(3.0, rel=0.01)
-    assert abs(x[-1]) < 1e-12 and abs(np.gradient(x, t)[-1]) < 1e-9
+# ---------------------------------------------------------------------- the walk
 
 
 def test_same_seed_same_walk_other_seed_other_walk(l_plan, room_to_corridor_end):
@@ -326,22 +186,6 @@ def test_a_walk_cut_short_is_the_whole_walk_up_to_the_cut(l_plan, room_to_corrid
     for name in ("t", "pos", "heading", "yaw", "speed", "step_phase", "gait_envelope"):
         np.testing.assert_allclose(getattr(b, name), getattr(a, name), rtol=0, atol=1e-12)
     assert b.steps.equals(a.steps)
-
-
-def test_steering_copies_the_plan_only_where_the_physics_would(corridor, monkeypatch):
-    # The disc's physics is skipped where the plan keeps clear of every wall
-    # and the disc is on it: the walk must come out as with every step simulated.
-    from indoorsim.walker import gait
-
-    route = plan_route(
-        corridor, RouteSpec(waypoints=[(1.0, 1.5), (10.0, 1.5), (20.0, 0.2), (30.0, 1.5)])
-    )
-    params = WalkerParams(wall_distance_m=0.0)  # the route runs into the wall: contacts
-    fast = walk(corridor, route, params, np.random.default_rng(4))
-    monkeypatch.setattr(gait, "_STEER_MIN_SKIP", 10**9)
-    full = walk(corridor, route, params, np.random.default_rng(4))
-    np.testing.assert_allclose(fast.pos, full.pos, rtol=0, atol=1e-9)
-    assert (full.pos[:, 1] > 0.1 + 0.25 - 0.035).all()  # the wall held the disc off
 
 
 @pytest.mark.parametrize("natural", [False, True])

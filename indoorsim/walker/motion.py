@@ -1,0 +1,193 @@
+"""Motion: what the body does within each step, on top of its macro track.
+
+:func:`intra_step_motion` is the last stage of
+:func:`~indoorsim.walker.gait.walk` (DESIGN §5, numbers from REALISM §5),
+added analytically at ``rate_hz``: forward speed oscillation and vertical
+bounce at step frequency (lowest and fastest just after heel strike), lateral
+sway toward the stance foot and trunk yaw at stride frequency, and heel-strike
+transients shaped as Ricker wavelets of the acceleration (smooth, zero net
+velocity change; :func:`impulse_displacement`, which the carrying modes use
+for the phone's own jolts too). Amplitudes follow each step's length and fade
+in and out with every bout, so positions stay C².
+
+Frames: offsets in the walking direction's frame (forward, left, up), metres;
+trunk yaw in radians. All randomness comes from the ``rng`` argument.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+from scipy.interpolate import CubicSpline
+
+__all__ = ["IntraStepMotion", "impulse_displacement", "intra_step_motion"]
+
+_G = 9.81  # m/s²
+# Heel-strike transients peak this long after contact and last about ±3σ; σ =
+# 15 ms puts their energy at 10–20 Hz [E].
+_HS_DELAY_S, _HS_SIGMA_S = 0.02, 0.015
+# The vertical minimum and forward-speed maximum come just after heel strike,
+# in double support (as a fraction of a step).
+_DOUBLE_SUPPORT_PHASE = 0.1
+
+
+class IntraStepMotion(NamedTuple):
+    """The body centre's motion within each step, in the walking direction's frame."""
+
+    forward: NDArray[np.float64]
+    """(K,) offset along the walking direction (m)."""
+    lateral: NDArray[np.float64]
+    """(K,) offset to the left of it (m)."""
+    up: NDArray[np.float64]
+    """(K,) offset from the standing pelvis height (m)."""
+    trunk_yaw: NDArray[np.float64]
+    """(K,) trunk rotation on top of the heading (rad)."""
+
+
+def intra_step_motion(
+    t: NDArray[np.float64],
+    *,
+    phase: NDArray[np.float64],
+    stride: NDArray[np.float64],
+    envelope: NDArray[np.float64],
+    strike_t: NDArray[np.float64],
+    step_lengths: NDArray[np.float64],
+    step_durations: NDArray[np.float64],
+    leg_m: float,
+    cruise_mps: float,
+    bounce_fraction: float,
+    speed_oscillation: float,
+    lateral_sway_m: tuple[float, float],
+    trunk_yaw_deg: tuple[float, float],
+    heel_strike_mps2: tuple[float, float],
+    rng: np.random.Generator,
+) -> IntraStepMotion:
+    """Bounce, forward swing, sway, trunk yaw and heel-strike jolts at the times ``t``.
+
+    Args:
+        t: (K,) sample times (s).
+        phase: (K,) steps completed at each sample (the step phase).
+        stride: (K,) position in the gait cycle in [0, 1), 0 at left heel strikes.
+        envelope: (K,) 0 standing, 1 walking, C² in between: scales every motion.
+        strike_t: (N,) heel-strike times (s).
+        step_lengths: (N,) length of each step (m).
+        step_durations: (N,) duration of each step (s).
+        leg_m: standing height of the pelvis (m).
+        cruise_mps: cruising speed; slower steps strike more gently.
+        bounce_fraction: vertical excursion as a fraction of the compass-gait
+            value step²/(8·leg).
+        speed_oscillation: forward speed swing as a fraction of the speed.
+        lateral_sway_m: range of the sway amplitude (drawn once per walk).
+        trunk_yaw_deg: range of the trunk yaw amplitude (drawn once per walk).
+        heel_strike_mps2: range of the heel-strike peak at cruising speed.
+        rng: draws the walk's sway, trunk yaw and heel-strike amplitudes.
+
+    Returns:
+        The offsets from the macro track and the trunk yaw.
+    """
+    # Peak-to-peak bounce, capped where fast walking would make its vertical
+    # acceleration exceed half of g (the walk-to-run transition lies near g).
+    bounce = np.minimum(
+        bounce_fraction * step_lengths**2 / (8.0 * leg_m),
+        _G * (step_durations / (2.0 * np.pi)) ** 2,
+    )
+    swing = speed_oscillation * step_lengths / (2.0 * np.pi)  # forward swing amplitude
+    amp = _per_step_curve(np.column_stack([bounce, swing]), phase)
+    cyc = 2.0 * np.pi * (phase - _DOUBLE_SUPPORT_PHASE)
+    sway = rng.uniform(*lateral_sway_m)
+    yaw_amp = math.radians(rng.uniform(*trunk_yaw_deg))
+    # Gentler impacts on slow steps (gait initiation, turns), with a little scatter.
+    hs_up = (
+        rng.uniform(*heel_strike_mps2)
+        * np.clip(step_lengths / step_durations / cruise_mps, 0.3, 1.3)
+        * rng.uniform(0.85, 1.15, len(strike_t))
+    )
+    # The heel strike jolts the pelvis up and brakes it at half that.
+    jolt = impulse_displacement(t, strike_t, hs_up)
+    return IntraStepMotion(
+        forward=envelope * amp[:, 1] * np.sin(cyc) - 0.5 * jolt,
+        lateral=envelope * sway * np.sin(2.0 * np.pi * stride),
+        up=-0.5 * envelope * amp[:, 0] * np.cos(cyc) + jolt,
+        trunk_yaw=envelope * yaw_amp * np.cos(2.0 * np.pi * stride),
+    )
+
+
+def _per_step_curve(values: NDArray[np.float64], phase: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Per-step quantities as C² functions of the step phase.
+
+    Knots at mid-step, plus the first and last values held at phase 0 and at
+    the last heel strike, so the phase (which never leaves that range) needs
+    no clipping, which would put kinks into the motion.
+    """
+    n = len(values)
+    knots = np.r_[0.0, np.arange(n) + 0.5, n]
+    held = np.concatenate([values[:1], values, values[-1:]])
+    return CubicSpline(knots, held, axis=0, bc_type="natural")(phase)
+
+
+def impulse_displacement(
+    t: NDArray[np.float64], t_hs: NDArray[np.float64], peak: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Displacement (m) whose acceleration is a short pulse of ``peak`` m/s² after each heel strike.
+
+    x(t) = −peak·σ²·exp(−u²/2) with u = (t − t_hs − 20 ms)/σ and σ = 15 ms, so
+    ẍ = peak·(1 − u²)·exp(−u²/2), a Ricker wavelet: a sharp pulse flanked by
+    two shallow opposite lobes, with no net change of velocity and no
+    displacement left behind. Smooth at any sample rate of 200 Hz or more.
+
+    Args:
+        t: (K,) sorted sample times.
+        t_hs: (N,) sorted heel-strike times, more than 0.2 s apart (so only
+            the two nearest can reach a sample).
+        peak: (N,) acceleration peak of each pulse.
+    """
+    out = np.zeros(len(t))
+    if len(t_hs) == 0:
+        return out
+    centre = t_hs + _HS_DELAY_S
+    # Each sample gets the pulse centred last before it and the one next after
+    # it: the exponents of both in one compiled pass, np.exp on each set, and
+    # the sum in another pass.
+    first = int(np.searchsorted(t, centre[0], "right"))
+    last = int(np.searchsorted(t, centre[-1], "right"))
+    arg_prev, arg_next = np.empty(len(t) - first), np.empty(last)
+    j_prev, j_next = np.empty(len(t) - first, np.intp), np.empty(last, np.intp)
+    _pulse_exponents(t, centre, _HS_SIGMA_S, first, arg_prev, j_prev, arg_next, j_next)
+    scale = peak * _HS_SIGMA_S**2
+    _add_pulses(out, first, scale, j_prev, np.exp(arg_prev), j_next, np.exp(arg_next))
+    return out
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _pulse_exponents(
+    t, centre, sigma, first, arg_prev, j_prev, arg_next, j_next
+):  # pragma: no cover - compiled
+    """−u²/2 with u = (t − centre)/σ for the last centre before each sample t[first:]
+    and for the next centre from each sample t[:len(arg_next)] on, and which
+    centres those are (``t`` and ``centre`` ascending)."""
+    k = 0
+    for i in range(len(t)):
+        while k < len(centre) and centre[k] < t[i]:
+            k += 1
+        if i >= first:
+            u = (t[i] - centre[k - 1]) / sigma
+            arg_prev[i - first] = -0.5 * u * u
+            j_prev[i - first] = k - 1
+        if i < len(arg_next):
+            u = (t[i] - centre[k]) / sigma
+            arg_next[i] = -0.5 * u * u
+            j_next[i] = k
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _add_pulses(out, first, scale, j_prev, e_prev, j_next, e_next):  # pragma: no cover - compiled
+    """x −= peak·σ²·exp(−u²/2) of the pulse before each sample (out[first:]), then of
+    the one after it (out[:len(e_next)]); ``scale`` is peak·σ², ``e_*`` the exponentials."""
+    for k in range(len(e_prev)):
+        out[first + k] -= scale[j_prev[k]] * e_prev[k]
+    for k in range(len(e_next)):
+        out[k] -= scale[j_next[k]] * e_next[k]

@@ -1,0 +1,54 @@
+"""Motion: the body's accelerations, bounce, sway and trunk yaw within each step."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from indoorsim.walker.gait import BodyTrajectory, WalkerParams
+from indoorsim.walker.motion import impulse_displacement
+
+G = 9.81
+
+
+def _accel(body: BodyTrajectory) -> np.ndarray:
+    return np.diff(body.pos, 2, axis=0) * body.rate_hz**2
+
+
+def test_accelerations_are_physical(l_body, straight_body):
+    for body in (l_body, straight_body):
+        acc = _accel(body)
+        assert np.isfinite(acc).all()
+        assert np.linalg.norm(acc, axis=1).max() < 3 * G
+        specific = acc + np.array([0.0, 0.0, G])
+        assert np.linalg.norm(specific, axis=1).max() < 2 * G  # heel-strike peaks < 2 g
+
+
+def test_vertical_acceleration_swings_5_to_10_per_step(straight_body):
+    az = _accel(straight_body)[:, 2]
+    t = straight_body.t[1:-1]
+    strikes = straight_body.steps["t"].to_numpy()[4:-4]
+    swings = [np.ptp(az[(t >= a) & (t < b)]) for a, b in itertools.pairwise(strikes)]
+    assert 5.0 <= np.median(swings) <= 10.0
+
+
+def test_bounce_sway_and_trunk_yaw_amplitudes(straight_body):
+    body, params = straight_body, WalkerParams()
+    strikes = body.steps["t"].to_numpy()
+    core = (body.t > strikes[4]) & (body.t < strikes[-5])
+    z = body.pos[core, 2]
+    assert 0.035 <= np.ptp(z) <= 0.07  # 4–5 cm bounce plus heel-strike dips
+    lateral = body.pos[core, 1] - 1.5
+    assert params.lateral_sway_m[0] * 0.9 <= np.abs(lateral).max() <= params.lateral_sway_m[1] * 1.2
+    trunk = np.degrees(np.abs(body.yaw[core] - body.heading[core]).max())
+    assert params.trunk_yaw_deg[0] * 0.9 <= trunk <= params.trunk_yaw_deg[1] * 1.01
+
+
+def test_impulse_leaves_no_velocity_or_displacement():
+    t = np.arange(0, 2, 1 / 1000)
+    x = impulse_displacement(t, np.array([0.5, 1.2]), np.array([3.0, 2.0]))
+    acc = np.gradient(np.gradient(x, t), t)
+    assert acc.max() == pytest.approx(3.0, rel=0.01)
+    assert abs(x[-1]) < 1e-12 and abs(np.gradient(x, t)[-1]) < 1e-9
