@@ -1,1 +1,10 @@
-"""The simulated pedestrian: routes, gait, and how the phone is carried."""
+"""The simulated pedestrian, and the phone's pose on it (DESIGN §5).
+
+* :mod:`~indoorsim.walker.route` — waypoints, or a shortest path between two points;
+* :mod:`~indoorsim.walker.path` — the walked path: smoothed corners, keeping off walls;
+* :mod:`~indoorsim.walker.gait` — speed profile, step events, and :func:`walk`,
+  which ties the stages into a :class:`~indoorsim.walker.gait.BodyTrajectory`;
+* :mod:`~indoorsim.walker.physics` — the body as a pymunk disc steered against the walls;
+* :mod:`~indoorsim.walker.motion` — intra-step motion: bounce, sway, trunk yaw, heel strikes;
+* :mod:`~indoorsim.walker.carry` — the phone's pose in each carrying mode.
+"""

@@ -19,10 +19,17 @@ import numpy as np
 import pandas as pd
 
 from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_statistics
-from indoorsim.benchmark.realism.reference import MODELLED_MODES, QUOTED_RANGES
+from indoorsim.benchmark.realism.reference import (
+    MODELLED_MODES,
+    QUOTED_RANGES,
+    REAL_MOTION_CSV,
+    load_real_motion,
+    real_motion_table,
+)
 from indoorsim.scenario.generate import generate
 from indoorsim.scenario.load import load_site
 from indoorsim.simulate import simulate
+from indoorsim.util.provenance import realdata_dir
 from indoorsim.world.site import Site
 
 __all__ = [
@@ -30,6 +37,7 @@ __all__ = [
     "RealismConfig",
     "compare",
     "markdown",
+    "run_realism",
     "simulated_motion_table",
     "write_report",
 ]
@@ -189,3 +197,35 @@ def write_report(
     ]
     (out / "realism.md").write_text("\n".join(lines) + "\n")
     return table
+
+
+def run_realism(
+    out: Path,
+    *,
+    config: RealismConfig = RealismConfig(),
+    realdata: Path | None = None,
+    refresh_reference: bool = False,
+    progress: Progress | None = None,
+) -> pd.DataFrame:
+    """Measure simulated walks, compare them with the real table, write ``out/realism.md``.
+
+    Args:
+        out: the output folder (``leaderboards/`` for the committed report).
+        config: the simulated sites, modes, seeds and phone.
+        realdata: the real-data folder; when given (or when ``refresh_reference``),
+            the real statistics are measured from its logs instead of read from the
+            committed table.
+        refresh_reference: also write the measured real table over the committed one.
+        progress: called with a line of text before each simulated walk.
+
+    Returns:
+        The comparison table (one row per mode and statistic).
+    """
+    if realdata is not None or refresh_reference:
+        real = real_motion_table(realdata_dir(realdata))
+        if refresh_reference:
+            real.to_csv(REAL_MOTION_CSV, index=False, float_format="%.6g")
+    else:
+        real = load_real_motion()
+    sim = simulated_motion_table(config, progress=progress)
+    return write_report(out, real, sim)
