@@ -11,11 +11,11 @@ rounding and the 300 mm module (:func:`mm`, :func:`snap`), splitting a band
 of rooms at bay lines, one building's wall construction, size checks,
 office furniture, radiators and the papers' survey plans.
 
-Sourced figures: the sites' latitudes are REALISM §2.1's, the luminaire
-types REALISM §3.2's, the wall materials REALISM §4.2's,
-the BSSIDs locally administered as REALISM §4 asks; the steel model and its
-calibration against REALISM §2.2/§2.3 are described in :meth:`Draft.magnetic`
-and the package docstring.
+Sourced figures: the sites are REALISM §2.1's, the luminaire types REALISM
+§3.2's, the wall materials REALISM §4.2's, and the BSSIDs locally
+administered as REALISM §4 asks; the steel model and its calibration
+against REALISM §2.2 and §2.3 are described in :meth:`Draft.magnetic` and
+the package docstring.
 """
 
 from __future__ import annotations
@@ -932,6 +932,9 @@ class Draft:
         if light is not None:
             data["light"] = light
         return parse_scenario(data, source=f"generate({kind!r}, seed={seed})")
+
+
+# --------------------------------------------------------------------------- shared by the kinds
 
 
 def wall_types(
