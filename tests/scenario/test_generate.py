@@ -1,6 +1,11 @@
 """Procedural buildings: every kind is a valid, round-tripping, seeded scenario
 whose routes are walkable, whose lights and APs stand in free space, and whose
-steel gives indoor-like magnetic anomalies (REALISM.md §2.2)."""
+steel gives indoor-like magnetic anomalies (REALISM.md §2.2).
+
+One file for the whole package rather than one per kind module: every test is
+a contract each registered kind must meet, parametrised over :data:`KINDS`, so
+a kind added to the registry is checked without a test of its own; only the
+office's calibration tests at the end are kind-specific."""
 
 from __future__ import annotations
 
@@ -138,6 +143,18 @@ def test_size_sets_the_footprint(kind: str, size: tuple[float, float]) -> None:
     plan = FloorPlan(generate(kind, size=size, seed=3))
     x0, y0, x1, y1 = plan.outline.bounds
     assert (x1 - x0, y1 - y0) == pytest.approx(size, abs=1e-6)
+
+
+def test_a_kind_added_to_the_registry_is_built_by_generate(monkeypatch) -> None:
+    calls = []
+
+    def build_tiny(size: tuple[float, float] | None, seed: int) -> Scenario:
+        calls.append((size, seed))
+        return generate("office", size=size, seed=seed)
+
+    monkeypatch.setitem(KINDS, "tiny", build_tiny)
+    assert generate("tiny", size=(20.0, 8.0), seed=4) == generate("office", (20.0, 8.0), 4)
+    assert calls == [((20.0, 8.0), 4)]
 
 
 def test_unknown_kind_lists_the_valid_ones() -> None:

@@ -1,0 +1,106 @@
+"""Result figures: error CDFs and tracks of evaluations, named CDFs, training curves."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+import pytest
+
+from indoorsim.benchmark.evaluation import Evaluation, WalkResult
+from indoorsim.plots.results import (
+    plot_error_cdfs,
+    plot_named_cdfs,
+    plot_tracks,
+    plot_training_curves,
+)
+from indoorsim.world.site import Site
+
+
+def _walk(seed: int, errors: list[float]) -> WalkResult:
+    """A walk along y = 2 whose estimates sit ``errors`` metres north of the truth."""
+    t = np.arange(len(errors), dtype=float)
+    true_x, true_y = 1.0 + t, np.full(len(t), 2.0)
+    estimates = pd.DataFrame(
+        {"t": t, "x": true_x, "y": true_y + errors, "true_x": true_x, "true_y": true_y}
+    )
+    return WalkResult(seed=seed, estimates=estimates, metrics={})
+
+
+def _evaluation(estimator: str, mode: str, *walks: WalkResult) -> Evaluation:
+    return Evaluation(
+        estimator=estimator, scenario="test-office", mode=mode, config={}, walks=list(walks)
+    )
+
+
+@pytest.fixture
+def evaluations() -> list[Evaluation]:
+    return [
+        _evaluation("good", "handheld", _walk(0, [0.5, 0.25]), _walk(1, [1.0, 0.5])),
+        _evaluation("bad", "handheld", _walk(0, [2.0, 3.0])),
+        _evaluation("good", "pocketed", _walk(0, [1.5, 1.5, 0.5])),
+        _evaluation("bad", "pocketed"),  # not run on this site: no walks
+    ]
+
+
+def test_error_cdfs_have_a_panel_per_mode_and_pool_every_seed(evaluations):
+    before = plt.get_fignums()
+    fig = plot_error_cdfs(evaluations)
+    assert plt.get_fignums() == before
+    assert [ax.get_title() for ax in fig.axes] == ["handheld", "pocketed"]
+    curves = {
+        (ax.get_title(), line.get_label()): line for ax in fig.axes for line in ax.get_lines()
+    }
+    assert set(curves) == {("handheld", "good"), ("handheld", "bad"), ("pocketed", "good")}
+    # F(x) = #{e ≤ x} / N over the errors of both seeds.
+    good = curves["handheld", "good"]
+    np.testing.assert_allclose(good.get_xdata(), [0.25, 0.5, 1.0])
+    np.testing.assert_allclose(good.get_ydata(), [0.25, 0.75, 1.0])
+    np.testing.assert_allclose(curves["pocketed", "good"].get_ydata(), [1 / 3, 1.0])
+    assert good.get_color() != curves["handheld", "bad"].get_color()
+    assert "test-office" in fig.texts[0].get_text()
+
+
+def test_tracks_draw_the_first_seed_beside_the_truth_on_the_plan(site: Site, evaluations):
+    fig = plot_tracks(evaluations, site)
+    handheld, pocketed = fig.axes
+    lines = {line.get_label(): line for line in handheld.get_lines()}
+    assert list(lines) == ["truth", "good", "bad"]
+    first = evaluations[0].walks[0].estimates
+    np.testing.assert_array_equal(lines["good"].get_ydata(), first["y"])
+    np.testing.assert_array_equal(lines["truth"].get_xdata(), first["true_x"])
+    assert [line.get_label() for line in pocketed.get_lines()] == ["truth", "good"]
+    assert handheld.patches  # the floor plan underneath
+    xmin, _, xmax, _ = site.plan.bounds
+    assert handheld.get_xlim() == (xmin - 5, xmax + 5)
+
+
+def test_named_cdfs_skip_empty_samples():
+    fig = plot_named_cdfs(
+        {"left": {"a": np.array([2.0, 1.0]), "none": np.array([])}, "right": {"b": [0.5]}},
+        xlabel="error (m)",
+        title="two panels",
+    )
+    left, right = fig.axes
+    assert (left.get_title(), right.get_title()) == ("left", "right")
+    ((line,),) = [left.get_lines()]
+    assert line.get_label() == "a"
+    np.testing.assert_allclose(line.get_ydata(), [0.5, 1.0])
+    assert [line.get_label() for line in right.get_lines()] == ["b"]
+    assert left.get_xlabel() == "error (m)"
+    assert fig.texts[0].get_text() == "two panels"
+
+
+@pytest.mark.parametrize("threshold", [None, 0.1])
+def test_training_curves_plot_mse_per_epoch_on_a_log_axis(threshold):
+    mse = np.array([1.0, 0.3, 0.05])
+    fig = plot_training_curves({"run": {"bp": mse}}, threshold=threshold)
+    (ax,) = fig.axes
+    assert ax.get_yscale() == "log"
+    curve = next(line for line in ax.get_lines() if line.get_label() == "bp")
+    np.testing.assert_array_equal(curve.get_xdata(), [1, 2, 3])
+    np.testing.assert_array_equal(curve.get_ydata(), mse)
+    references = [line for line in ax.get_lines() if line is not curve]
+    assert [tuple(line.get_ydata()) for line in references] == (
+        [] if threshold is None else [(threshold, threshold)]
+    )
