@@ -11,7 +11,8 @@ Modules:
   :func:`plot_recording_track`, :func:`save_recording_plots` for a simulated
   walk or a real phone log.
 * :mod:`~indoorsim.plots.results` — :func:`plot_error_cdfs`,
-  :func:`plot_tracks`, :func:`plot_named_cdfs`, :func:`plot_training_curves`.
+  :func:`plot_tracks`, :func:`plot_named_cdfs`, :func:`plot_training_curves`,
+  :func:`plot_realism_profiles`.
 
 The public functions are re-exported here (``from indoorsim.plots import
 draw_plan``). Every figure is a free-standing :class:`matplotlib.figure.Figure`
@@ -31,6 +32,7 @@ from indoorsim.plots.recording import (
 from indoorsim.plots.results import (
     plot_error_cdfs,
     plot_named_cdfs,
+    plot_realism_profiles,
     plot_tracks,
     plot_training_curves,
 )
@@ -52,6 +54,7 @@ __all__ = [
     "draw_plan",
     "plot_error_cdfs",
     "plot_named_cdfs",
+    "plot_realism_profiles",
     "plot_recording_streams",
     "plot_recording_track",
     "plot_site_fields",

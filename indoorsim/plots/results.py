@@ -7,6 +7,8 @@
 * :func:`plot_named_cdfs` — CDFs of any named error samples, as the papers'
   reproduced experiments draw them.
 * :func:`plot_training_curves` — BP training MSE per epoch (Han2023 Fig. 14).
+* :func:`plot_realism_profiles` — real and simulated ‖a‖/‖ω‖ spectra and ‖a‖
+  histograms overlaid, one row per carrying mode (``realism_motion.png``).
 """
 
 from __future__ import annotations
@@ -148,4 +150,42 @@ def plot_training_curves(
         ax.legend(loc="upper right", fontsize="small")
     axes[0].set_ylabel("training MSE (normalised)")
     fig.suptitle("Convergence of BP, ASO-BP and Tent-ASO-BP (Han2023 Fig. 14)")
+    return fig
+
+
+_REALISM_CURVES = (
+    ("accel_psd", "‖a‖ spectrum", "frequency (Hz)", "power ((m/s²)²/Hz)"),
+    ("gyro_psd", "‖ω‖ spectrum", "frequency (Hz)", "power ((rad/s)²/Hz)"),
+    ("accel_hist", "‖a‖ while walking", "‖a‖ (m/s²)", "density"),
+)
+
+
+def plot_realism_profiles(real: Any, sim: Any) -> Figure:
+    """Real against simulated motion profiles: a row per carrying mode, a column per curve.
+
+    Args:
+        real, sim: tables with columns ``mode``, ``curve``, ``x``, ``y``, ``walks``
+            (:func:`indoorsim.benchmark.realism.reference.mean_profiles`).
+    """
+    modes = list(dict.fromkeys([*sim["mode"], *real["mode"]]))
+    fig = agg_figure((4.2 * len(_REALISM_CURVES), 2.6 * len(modes)))
+    fig.set_layout_engine("constrained")
+    axes = fig.subplots(len(modes), len(_REALISM_CURVES), squeeze=False)
+    for row, mode in zip(axes, modes, strict=True):
+        for ax, (curve, title, xlabel, ylabel) in zip(row, _REALISM_CURVES, strict=True):
+            for table, label, colour in ((real, "real", "#d62728"), (sim, "simulated", "#1f77b4")):
+                part = table[(table["mode"] == mode) & (table["curve"] == curve)]
+                if part.empty:
+                    continue
+                walks = int(part["walks"].iloc[0])
+                ax.plot(part["x"], part["y"], color=colour, lw=1.2, label=f"{label} ({walks})")
+            if curve.endswith("_psd"):
+                ax.set_yscale("log")
+                ax.set_xlim(0, 20)
+            ax.set_title(f"{mode}: {title}", fontsize=9)
+            ax.set_xlabel(xlabel, fontsize=8)
+            ax.set_ylabel(ylabel, fontsize=8)
+            ax.tick_params(labelsize=7)
+            if ax.lines:
+                ax.legend(fontsize=7)
     return fig

@@ -38,6 +38,7 @@ The keys of the returned dict (NaN where a stream is missing or too short):
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
@@ -58,7 +59,16 @@ from indoorsim.benchmark.realism.stats import (
 from indoorsim.io.recording import Recording
 from indoorsim.util import quaternion
 
-__all__ = ["MOTION_KEYS", "MOTION_RATE_HZ", "motion_statistics", "uniform_stream"]
+__all__ = [
+    "MOTION_KEYS",
+    "MOTION_RATE_HZ",
+    "WalkingSignals",
+    "gyro_heading_drift",
+    "motion_profiles",
+    "motion_statistics",
+    "uniform_stream",
+    "walking_signals",
+]
 
 MOTION_RATE_HZ = 50.0
 """The common rate: the lowest of the real logs (Indoor Location Competition traces)."""
@@ -175,19 +185,66 @@ def gyro_heading_drift(
     return total
 
 
+@dataclass(frozen=True, kw_only=True)
+class WalkingSignals:
+    """One recording's streams on the common clock, and where its wearer walks.
+
+    The other streams start within a sample or two of the accelerometer (one
+    clock on real phones, a jittered one each in simulation), so they are
+    aligned by index and cut to the shortest.
+    """
+
+    accel: NDArray[np.float64]
+    """(N, 3) specific force, phone frame."""
+    norm: NDArray[np.float64]
+    """(N,) ‖a‖."""
+    walking: NDArray[np.bool_]
+    runs: list[slice]
+    gyro: NDArray[np.float64] | None
+    rotation: NDArray[np.float64] | None
+    """(N, 4) world←phone, sign-continuous."""
+    spectrum: tuple[NDArray[np.float64], NDArray[np.float64]] | None
+    """Run-weighted Welch spectrum of ‖a‖ over the walking runs (None: none long enough)."""
+
+
+def walking_signals(rec: Recording, rate_hz: float = MOTION_RATE_HZ) -> WalkingSignals:
+    """Put ``rec``'s motion streams on the common clock and find its walking."""
+    acc = uniform_stream(rec.accel, ["x", "y", "z"], rate_hz)
+    gyro = uniform_stream(rec.gyro, ["x", "y", "z"], rate_hz) if "gyro" in rec.streams else None
+    rotation = None
+    if "rotation" in rec.streams:
+        # q and -q are one rotation: make the samples sign-continuous before filtering them.
+        q = rec.rotation[["qw", "qx", "qy", "qz"]].to_numpy(dtype=float, copy=True)
+        flips = np.concatenate([[False], np.einsum("ij,ij->i", q[1:], q[:-1]) < 0])
+        q *= np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)[:, None]
+        continuous = pd.DataFrame(q, index=rec.rotation.index, columns=["qw", "qx", "qy", "qz"])
+        rotation = uniform_stream(continuous, ["qw", "qx", "qy", "qz"], rate_hz)
+    n = min(len(x) for x in (acc, gyro, rotation) if x is not None)
+    acc = acc[:n]
+    norm = np.linalg.norm(acc, axis=1)
+    walking = walking_mask(norm, rate_hz)
+    runs = _runs(walking)
+    return WalkingSignals(
+        accel=acc,
+        norm=norm,
+        walking=walking,
+        runs=runs,
+        gyro=None if gyro is None else gyro[:n],
+        rotation=None if rotation is None else rotation[:n],
+        spectrum=_mean_spectrum(norm, runs, rate_hz),
+    )
+
+
 def motion_statistics(rec: Recording) -> dict[str, float]:
     """The walking statistics of ``rec`` (see the module docstring for the keys)."""
     out = dict.fromkeys(MOTION_KEYS, math.nan)
     rate = MOTION_RATE_HZ
-    acc = uniform_stream(rec.accel, ["x", "y", "z"], rate)
-    norm = np.linalg.norm(acc, axis=1)
-    walking = walking_mask(norm, rate)
-    runs = _runs(walking)
+    sig = walking_signals(rec, rate)
+    norm, walking, runs = sig.norm, sig.walking, sig.runs
     out["walking_s"] = float(walking.sum() / rate)
-    spec = _mean_spectrum(norm, runs, rate)
-    if spec is None:
+    if sig.spectrum is None:
         return out
-    f, p = spec
+    f, p = sig.spectrum
     step_hz = peak_frequency(f, p)
     out["step_hz"] = step_hz
     whole = band_power(f, p, *_POWER_BAND_HZ)
@@ -218,28 +275,40 @@ def motion_statistics(rec: Recording) -> dict[str, float]:
         in_walk = walking[np.clip(steps_t.astype(int), 0, len(walking) - 1)]
         if in_walk.any():
             out["cadence_ratio"] = step_hz / (in_walk.sum() / out["walking_s"])
-    # The other streams start within a sample or two of the accelerometer (one
-    # clock on real phones, a jittered one each in simulation): aligned by index.
-    if "gyro" in rec.streams:
-        gyro = uniform_stream(rec.gyro, ["x", "y", "z"], rate)
-        n = min(len(gyro), len(walking))
-        rms = rms_per_axis(gyro[:n][walking[:n]])
+    if sig.gyro is not None:
+        rms = rms_per_axis(sig.gyro[walking])
         out["gyro_rms_1"], out["gyro_rms_2"], out["gyro_rms_3"] = (float(v) for v in rms)
-    if "rotation" in rec.streams:
-        # q and -q are one rotation: make the samples sign-continuous before filtering them.
-        q = rec.rotation[["qw", "qx", "qy", "qz"]].to_numpy(dtype=float, copy=True)
-        flips = np.concatenate([[False], np.einsum("ij,ij->i", q[1:], q[:-1]) < 0])
-        q *= np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)[:, None]
-        continuous = pd.DataFrame(q, index=rec.rotation.index, columns=["qw", "qx", "qy", "qz"])
-        rotation = uniform_stream(continuous, ["qw", "qx", "qy", "qz"], rate)
-        n = min(len(rotation), len(walking))
-        out["heading_jitter"] = _heading_jitter_deg(rotation[:n], walking[:n])
-        if "gyro" in rec.streams:
-            n = min(n, len(gyro))
-            inside = [slice(r.start, min(r.stop, n)) for r in runs if r.start < n]
-            drift = gyro_heading_drift(gyro[:n], acc[:n], rotation[:n], inside, rate)
-            strides = sum(r.stop - r.start for r in inside) / rate * step_hz / 2
+    if sig.rotation is not None:
+        out["heading_jitter"] = _heading_jitter_deg(sig.rotation, walking)
+        if sig.gyro is not None:
+            drift = gyro_heading_drift(sig.gyro, sig.accel, sig.rotation, runs, rate)
+            strides = walking.sum() / rate * step_hz / 2
             out["gyro_drift"] = math.degrees(drift) / strides
+    return out
+
+
+PROFILE_HIST_EDGES = np.linspace(0.0, 40.0, 81)
+"""Bins of the ‖a‖ histogram (m/s²)."""
+
+
+def motion_profiles(rec: Recording) -> dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]]:
+    """Curves to overlay real and simulated walks: (x, y) by name.
+
+    ``accel_psd`` and ``gyro_psd``: run-weighted Welch spectra of ‖a‖ and ‖ω‖
+    over the walking runs (Hz, power per Hz); ``accel_hist``: density of ‖a‖
+    over the walking samples (bin centres in m/s²). Missing streams are left out.
+    """
+    sig = walking_signals(rec)
+    out: dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
+    if sig.spectrum is None:
+        return out
+    out["accel_psd"] = sig.spectrum
+    if sig.gyro is not None:
+        gyro_psd = _mean_spectrum(np.linalg.norm(sig.gyro, axis=1), sig.runs, MOTION_RATE_HZ)
+        if gyro_psd is not None:
+            out["gyro_psd"] = gyro_psd
+    density, _ = np.histogram(sig.norm[sig.walking], bins=PROFILE_HIST_EDGES, density=True)
+    out["accel_hist"] = (0.5 * (PROFILE_HIST_EDGES[1:] + PROFILE_HIST_EDGES[:-1]), density)
     return out
 
 

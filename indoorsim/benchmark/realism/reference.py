@@ -20,21 +20,27 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 
-from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_statistics
+from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_profiles, motion_statistics
 from indoorsim.io.recording import Recording
 
 __all__ = [
     "QUOTED_RANGES",
     "REAL_MOTION_CSV",
+    "REAL_PROFILES_CSV",
     "REAL_SOURCES",
     "RealSource",
     "load_real_motion",
+    "load_real_profiles",
+    "mean_profiles",
     "real_motion_table",
+    "real_profiles",
 ]
 
 REAL_MOTION_CSV = Path(__file__).with_name("real_motion.csv")
+REAL_PROFILES_CSV = Path(__file__).with_name("real_profiles.csv")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -112,28 +118,60 @@ walks, not per stride at the common rate. Its dangling gyro figures are single v
 The comparison takes the union of a quoted range and the range measured here."""
 
 
-def real_motion_table(realdata: Path) -> pd.DataFrame:
-    """Motion statistics of every real walk in a modelled carrying mode, one row per walk."""
-    rows = []
+def _real_walks(realdata: Path) -> list[tuple[RealSource, Path, Recording, str]]:
+    walks = []
     for source in REAL_SOURCES:
         for path in sorted(realdata.glob(source.pattern)):
             rec = Recording.load(path)
             mode = rec.meta.get("mode")
-            if mode not in MODELLED_MODES:
-                continue  # bags, armbands, neck pouches: no indoorsim mode to compare with
-            rows.append(
-                {
-                    "dataset": source.name,
-                    "walk": path.name,
-                    "mode": mode,
-                    "phone": source.phone,
-                    "licence": source.licence,
-                    **motion_statistics(rec),
-                }
-            )
+            # Bags, armbands, neck pouches: no indoorsim mode to compare them with.
+            if mode in MODELLED_MODES:
+                walks.append((source, path, rec, mode))
+    return walks
+
+
+def real_motion_table(realdata: Path) -> pd.DataFrame:
+    """Motion statistics of every real walk in a modelled carrying mode, one row per walk."""
+    rows = [
+        {
+            "dataset": source.name,
+            "walk": path.name,
+            "mode": mode,
+            "phone": source.phone,
+            "licence": source.licence,
+            **motion_statistics(rec),
+        }
+        for source, path, rec, mode in _real_walks(realdata)
+    ]
     return pd.DataFrame(rows, columns=["dataset", "walk", "mode", "phone", "licence", *MOTION_KEYS])
+
+
+def mean_profiles(labelled: list[tuple[str, Recording]]) -> pd.DataFrame:
+    """Each mode's mean of :func:`motion_profiles` over its recordings: mode, curve, x, y."""
+    sums: dict[tuple[str, str], list] = {}
+    for mode, rec in labelled:
+        for curve, (x, y) in motion_profiles(rec).items():
+            entry = sums.setdefault((mode, curve), [x, np.zeros_like(y), 0])
+            entry[1] = entry[1] + y
+            entry[2] += 1
+    frames = [
+        pd.DataFrame({"mode": mode, "curve": curve, "x": x, "y": total / n, "walks": n})
+        for (mode, curve), (x, total, n) in sums.items()
+    ]
+    columns = ["mode", "curve", "x", "y", "walks"]
+    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=columns)
+
+
+def real_profiles(realdata: Path) -> pd.DataFrame:
+    """The mean spectra and ‖a‖ histogram of the real walks of each modelled mode."""
+    return mean_profiles([(mode, rec) for _, _, rec, mode in _real_walks(realdata)])
 
 
 def load_real_motion(path: Path = REAL_MOTION_CSV) -> pd.DataFrame:
     """The committed table of :func:`real_motion_table` (or another one written like it)."""
+    return pd.read_csv(path)
+
+
+def load_real_profiles(path: Path = REAL_PROFILES_CSV) -> pd.DataFrame:
+    """The committed table of :func:`real_profiles`."""
     return pd.read_csv(path)

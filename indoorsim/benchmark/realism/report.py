@@ -23,8 +23,12 @@ from indoorsim.benchmark.realism.reference import (
     MODELLED_MODES,
     QUOTED_RANGES,
     REAL_MOTION_CSV,
+    REAL_PROFILES_CSV,
     load_real_motion,
+    load_real_profiles,
+    mean_profiles,
     real_motion_table,
+    real_profiles,
 )
 from indoorsim.scenario.generate import generate
 from indoorsim.scenario.load import load_site
@@ -38,7 +42,7 @@ __all__ = [
     "compare",
     "markdown",
     "run_realism",
-    "simulated_motion_table",
+    "simulate_motion",
     "write_report",
 ]
 
@@ -82,14 +86,16 @@ def _sites(config: RealismConfig) -> list[tuple[str, Site]]:
     return sites
 
 
-def simulated_motion_table(
+def simulate_motion(
     config: RealismConfig = RealismConfig(), *, progress: Progress | None = None
-) -> pd.DataFrame:
-    """Motion statistics of every simulated walk: site × mode × seed, one row each.
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Motion statistics of every simulated walk (site × mode × seed, one row each) and
+    each mode's mean profiles (:func:`~indoorsim.benchmark.realism.reference.mean_profiles`).
 
     Each site is walked on its first route (a long walk through it).
     """
     rows = []
+    profiles = []
     for label, site in _sites(config):
         route = next(iter(site.scenario.routes))
         for mode in config.modes:
@@ -98,7 +104,20 @@ def simulated_motion_table(
                     progress(f"{label} {mode} seed {seed}")
                 rec = simulate(site, route=route, mode=mode, device=config.device, seed=seed)
                 rows.append({"site": label, "mode": mode, "seed": seed, **motion_statistics(rec)})
-    return pd.DataFrame(rows, columns=["site", "mode", "seed", *MOTION_KEYS])
+                profiles.append(mean_profiles([(mode, rec)]))
+    table = pd.DataFrame(rows, columns=["site", "mode", "seed", *MOTION_KEYS])
+    return table, _pooled(profiles)
+
+
+def _pooled(profiles: list[pd.DataFrame]) -> pd.DataFrame:
+    """Per-walk profiles averaged per mode and curve (each walk weighs the same)."""
+    if not profiles:
+        return pd.DataFrame(columns=["mode", "curve", "x", "y", "walks"])
+    every = pd.concat(profiles, ignore_index=True)
+    pooled = every.groupby(["mode", "curve", "x"], sort=False).agg(
+        y=("y", "mean"), walks=("y", "size")
+    )
+    return pooled.reset_index()
 
 
 def real_range(real: pd.DataFrame, mode: str, key: str) -> tuple[float, float, str]:
@@ -174,9 +193,17 @@ def write_report(
     out: Path,
     real: pd.DataFrame,
     sim: pd.DataFrame,
+    real_curves: pd.DataFrame | None = None,
+    sim_curves: pd.DataFrame | None = None,
 ) -> pd.DataFrame:
-    """``realism.md``, ``realism_motion.csv`` (the comparison) and ``realism_sim_walks.csv``."""
+    """``realism.md``, ``realism_motion.csv`` (the comparison), ``realism_sim_walks.csv``,
+    and with profiles given, ``realism_motion.png`` (real and simulated curves overlaid)."""
     out.mkdir(parents=True, exist_ok=True)
+    if real_curves is not None and sim_curves is not None:
+        from indoorsim.plots.results import plot_realism_profiles
+
+        fig = plot_realism_profiles(real_curves, sim_curves)
+        fig.savefig(out / "realism_motion.png", dpi=110, bbox_inches="tight")
     table = compare(real, sim)
     sites = list(dict.fromkeys(sim["site"]))
     table.to_csv(out / "realism_motion.csv", index=False)
@@ -191,7 +218,9 @@ def write_report(
         "(" + ", ".join(f"{m}: {n}" for m, n in sorted(n_real.items())) + " walks from "
         "`shared/realdata`: ILC 2020 traces, MIT; Oxford step counter, CC BY 4.0), joined "
         "with the ranges quoted by the Motion realism issue where it gives one. Simulated: "
-        "each site's median over seeds; ✓ inside the real range, ✗ outside.",
+        "each site's median over seeds; ✓ inside the real range, ✗ outside. "
+        "`realism_motion.png` overlays the real and simulated ‖a‖ and ‖ω‖ spectra and "
+        "‖a‖ histograms of each mode.",
         "",
         markdown(table, sites),
     ]
@@ -222,10 +251,12 @@ def run_realism(
         The comparison table (one row per mode and statistic).
     """
     if realdata is not None or refresh_reference:
-        real = real_motion_table(realdata_dir(realdata))
+        folder = realdata_dir(realdata)
+        real, real_curves = real_motion_table(folder), real_profiles(folder)
         if refresh_reference:
             real.to_csv(REAL_MOTION_CSV, index=False, float_format="%.6g")
+            real_curves.to_csv(REAL_PROFILES_CSV, index=False, float_format="%.6g")
     else:
-        real = load_real_motion()
-    sim = simulated_motion_table(config, progress=progress)
-    return write_report(out, real, sim)
+        real, real_curves = load_real_motion(), load_real_profiles()
+    sim, sim_curves = simulate_motion(config, progress=progress)
+    return write_report(out, real, sim, real_curves, sim_curves)

@@ -20,7 +20,7 @@ from indoorsim.benchmark.realism.report import (
     compare,
     markdown,
     real_range,
-    simulated_motion_table,
+    simulate_motion,
 )
 from tests.conftest import REALDATA
 
@@ -68,6 +68,7 @@ def test_the_committed_real_table_is_what_the_real_logs_give():
 
 def test_every_modelled_mode_is_simulated_and_every_statistic_measured():
     config = RealismConfig(bundled=("minimal_room",), generated=(), seeds=(0,))
-    sim = simulated_motion_table(config)
+    sim, curves = simulate_motion(config)
     assert sorted(sim["mode"]) == sorted(config.modes)
     assert set(COMPARED) <= set(sim.columns)
+    assert set(curves["curve"]) == {"accel_psd", "gyro_psd", "accel_hist"}
