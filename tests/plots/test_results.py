@@ -11,6 +11,7 @@ from indoorsim.benchmark.evaluation import Evaluation, WalkResult
 from indoorsim.plots.results import (
     plot_error_cdfs,
     plot_named_cdfs,
+    plot_realism_profiles,
     plot_tracks,
     plot_training_curves,
 )
@@ -104,3 +105,27 @@ def test_training_curves_plot_mse_per_epoch_on_a_log_axis(threshold):
     assert [tuple(line.get_ydata()) for line in references] == (
         [] if threshold is None else [(threshold, threshold)]
     )
+
+
+def test_realism_profiles_put_real_beside_simulated_per_mode_and_curve():
+    x = np.linspace(0, 25, 11)
+
+    def table(modes: list[str], curves: list[str], walks: int) -> pd.DataFrame:
+        return pd.DataFrame(
+            [
+                {"mode": m, "curve": c, "x": xi, "y": 1.0 + xi, "walks": walks}
+                for m in modes
+                for c in curves
+                for xi in x
+            ]
+        )
+
+    real = table(["handheld"], ["accel_psd", "accel_hist"], 3)
+    sim = table(["handheld", "pocketed"], ["accel_psd", "gyro_psd", "accel_hist"], 2)
+    fig = plot_realism_profiles(real, sim)
+    assert len(fig.axes) == 6  # two modes × three curves
+    handheld_psd = fig.axes[0]
+    assert handheld_psd.get_yscale() == "log"
+    assert [line.get_label() for line in handheld_psd.get_lines()] == ["real (3)", "simulated (2)"]
+    pocket_gyro = fig.axes[4]
+    assert [line.get_label() for line in pocket_gyro.get_lines()] == ["simulated (2)"]

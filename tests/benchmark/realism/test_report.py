@@ -12,7 +12,9 @@ from indoorsim.benchmark.realism.motion import MOTION_KEYS
 from indoorsim.benchmark.realism.reference import (
     QUOTED_RANGES,
     load_real_motion,
+    load_real_profiles,
     real_motion_table,
+    real_profiles,
 )
 from indoorsim.benchmark.realism.report import (
     COMPARED,
@@ -72,3 +74,10 @@ def test_every_modelled_mode_is_simulated_and_every_statistic_measured():
     assert sorted(sim["mode"]) == sorted(config.modes)
     assert set(COMPARED) <= set(sim.columns)
     assert set(curves["curve"]) == {"accel_psd", "gyro_psd", "accel_hist"}
+
+
+@pytest.mark.skipif(not REALDATA.is_dir(), reason=f"no real data at {REALDATA}")
+def test_the_committed_real_profiles_are_what_the_real_logs_give():
+    fresh, committed = real_profiles(REALDATA), load_real_profiles()
+    assert list(fresh["curve"]) == list(committed["curve"])
+    np.testing.assert_allclose(fresh["y"], committed["y"], rtol=1e-5, atol=1e-12)
