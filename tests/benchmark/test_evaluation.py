@@ -23,6 +23,8 @@ from indoorsim.benchmark.metrics import SUMMARY_KEYS
 from indoorsim.cli import main
 from indoorsim.estimators.base import SiteContext, StartInfo, UnknownEstimatorError, available, make
 from indoorsim.io.recording import Recording
+from indoorsim.simulate import UnknownRouteError
+from indoorsim.walker.modes import UnknownModeError
 from tests.conftest import REALDATA
 
 ILC = REALDATA / "ms-indoor-location-2020/site1/F1/path_data_files"
@@ -81,6 +83,16 @@ def test_unknown_estimator_lists_the_available_ones():
         make("no-such-estimator")
     with pytest.raises(UnknownEstimatorError, match="cannot load"):
         make("no_such_module:Thing")
+
+
+def test_unknown_routes_and_modes_are_refused_before_the_surveys():
+    site = indoorsim.load_site("minimal_room")
+    with pytest.raises(UnknownRouteError, match=r"unknown route 'nowhere' in scenario"):
+        evaluate("start-only", site, route="nowhere")
+    with pytest.raises(UnknownModeError, match=r"unknown carrying mode 'juggling'"):
+        evaluate("start-only", site, mode="juggling")
+    # Both stay ValueErrors, as the evaluation raised before they had their own types.
+    assert issubclass(UnknownRouteError, ValueError) and issubclass(UnknownModeError, ValueError)
 
 
 def test_training_walks_use_other_routes_and_seeds():
