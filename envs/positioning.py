@@ -33,11 +33,10 @@ from indoorsim.benchmark.evaluation import (
 from indoorsim.estimators.base import SiteContext
 from indoorsim.phone.devices import get_device
 from indoorsim.plots import draw_plan
-from indoorsim.scenario.load import load_site, resolve_scenario
-from indoorsim.simulate import ModeSchedule, simulate
-from indoorsim.walker.carry import available_modes
+from indoorsim.scenario.load import load_site
+from indoorsim.simulate import route_spec, simulate
+from indoorsim.walker.schedule import ModeSchedule, ScheduleLike
 from indoorsim.windows import Observation, Windower, observation_space
-from indoorsim.world.site import Site
 
 __all__ = ["ACTION_MARGIN_M", "MAX_WINDOW_S", "IndoorPositioningEnv"]
 
@@ -56,51 +55,6 @@ _RENDER_MIN_HEIGHT_IN = 1.2
 _RENDER_DPI = 100
 _TRUTH_COLOUR = "black"
 _ESTIMATE_COLOUR = "#d62728"
-
-
-@functools.lru_cache(maxsize=32)
-def _cached_site(path: str, mtime_ns: int) -> Site:
-    # Keyed by the file's modification time too, so an edited scenario is reloaded.
-    return load_site(path)
-
-
-def _site_for(scenario: str | os.PathLike[str]) -> Site:
-    """The Site of a bundled name or YAML path, shared by every env of this process.
-
-    Sharing one Site object matters beyond load time: the survey cache of
-    :func:`indoorsim.benchmark.evaluation.site_context` is keyed by the Site, so envs on
-    the same building survey it once.
-    """
-    path = resolve_scenario(scenario).resolve()
-    return _cached_site(str(path), path.stat().st_mtime_ns)
-
-
-def _mode_names(mode: object) -> list[str]:
-    """The carrying-mode names in a mode or schedule, or ValueError if it is neither."""
-    if isinstance(mode, str):
-        return [mode]
-    if isinstance(mode, list | tuple) and mode:
-        entries = list(mode)
-        if all(isinstance(e, list | tuple) and len(e) in (2, 3) for e in entries):
-            for i, e in enumerate(entries):
-                # Checked here so that a bad schedule fails at construction, not at reset.
-                start = e[0]
-                if isinstance(start, bool) or not isinstance(start, int | float | np.number):
-                    raise ValueError(
-                        f"mode[{i}][0]: the start time must be a number, got {start!r}"
-                    )
-                if not (math.isfinite(start) and start >= 0):
-                    raise ValueError(f"mode[{i}][0]: the start time must be ≥ 0 s, got {start!r}")
-                if i > 0 and start <= entries[i - 1][0]:
-                    raise ValueError(
-                        f"mode[{i}][0]: start times must increase, got {start!r} after "
-                        f"{entries[i - 1][0]!r}"
-                    )
-            return [e[1] for e in entries]
-    raise ValueError(
-        f"mode must be a carrying-mode name or a non-empty schedule "
-        f"[(t_start, mode_name[, params]), ...]; got {mode!r}"
-    )
 
 
 def _describe(action: object) -> str:
@@ -223,7 +177,8 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
     - ``route``: a route name of the scenario; default its first route.
     - ``mode``: a carrying mode (``"handheld"``, ``"calling"``,
       ``"dangling"``, ``"pocketed"`` or a plugin's) or a schedule
-      ``[(t_start, mode[, params]), ...]``; default ``"handheld"``.
+      ``[(t_start, mode[, params]), ...]`` (or a
+      :class:`~indoorsim.walker.schedule.ModeSchedule`); default ``"handheld"``.
     - ``device``: the walking phone's profile; default ``"nexus_5x"``.
     - ``survey_device``: the phone of the offline surveys; default ``"honor_50"``.
     - ``window_s``: window length, s, at most ``MAX_WINDOW_S`` (60 s); default 1.0.
@@ -256,7 +211,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
         self,
         scenario: str | os.PathLike[str],
         route: str | None = None,
-        mode: ModeSchedule = "handheld",
+        mode: ScheduleLike = "handheld",
         device: str = "nexus_5x",
         survey_device: str = "honor_50",
         window_s: float = 1.0,
@@ -276,12 +231,16 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
                 f"window_s must be a number of seconds in (0, {MAX_WINDOW_S:g}], got {window_s!r}"
             )
         self.scenario = scenario
-        self._site = _site_for(scenario)
+        # One Site per scenario file and process (load_site caches it): the
+        # surveys of site_context() are cached per Site, so envs on the same
+        # building survey it once.
+        self._site = load_site(scenario)
         routes = list(self._site.scenario.routes)
         if not routes:
             raise ValueError(f"scenario {self._site.name!r} has no routes to walk")
         self.route = self._check_route(routes[0] if route is None else route)
-        self.mode = self._check_mode(mode)
+        self.mode = mode
+        self._schedule = ModeSchedule.of(mode)
         imu_rate_hz = get_device(device).accel.rate_hz
         get_device(survey_device)  # fail now, not at the first survey
         self.device = device
@@ -429,25 +388,13 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
-        self._site = _site_for(self.scenario)
+        self._site = load_site(self.scenario)
 
     # ------------------------------------------------------------- helpers
 
-    def _check_route(self, route: object) -> str:
-        routes = list(self._site.scenario.routes)
-        if route not in routes:
-            raise ValueError(
-                f"scenario {self._site.name!r} has no route {route!r}; valid routes: {routes}"
-            )
-        return str(route)
-
-    @staticmethod
-    def _check_mode(mode: object) -> ModeSchedule:
-        known = available_modes()
-        for name in _mode_names(mode):
-            if name not in known:
-                raise ValueError(f"unknown carrying mode {name!r}; valid modes: {known}")
-        return mode  # type: ignore[return-value]
+    def _check_route(self, route: str) -> str:
+        route_spec(self._site, route)
+        return route
 
     def _episode_options(self, options: dict[str, Any]) -> tuple[str, ModeSchedule]:
         unknown = sorted(set(options) - set(_RESET_OPTIONS))
@@ -456,7 +403,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
                 f"unknown reset option(s) {unknown}; valid options: {list(_RESET_OPTIONS)}"
             )
         route = self._check_route(options["route"]) if "route" in options else self.route
-        mode = self._check_mode(options["mode"]) if "mode" in options else self.mode
+        mode = ModeSchedule.of(options["mode"]) if "mode" in options else self._schedule
         return route, mode
 
     @staticmethod

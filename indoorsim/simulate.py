@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import functools
 import importlib.metadata
-from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -46,10 +45,12 @@ from indoorsim.phone.sensors import (
     wifi_scans,
 )
 from indoorsim.scenario.schema import RouteSpec
+from indoorsim.util.errors import UnknownNameError
 from indoorsim.util.seeding import WALK, named_streams
 from indoorsim.walker.carry import PhoneTrajectory, carry
 from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
 from indoorsim.walker.route import Route, plan_route
+from indoorsim.walker.schedule import ModeSchedule, ScheduleLike
 from indoorsim.world.site import Site
 
 # Child streams of a run's SeedSequence, by name. Append new names at the end:
@@ -67,8 +68,6 @@ _STREAMS = (
     "wifi",
     "gyro_clock",
 )
-
-ModeSchedule = str | Sequence[tuple]
 
 PATH_FIELD_ERROR_UT = 0.01
 """Bound on the error of :meth:`~indoorsim.world.magnetic.MagneticModel.field_along`
@@ -98,18 +97,39 @@ class PhoneSamples:
     wifi: pd.DataFrame
 
 
+class UnknownRouteError(UnknownNameError, KeyError, ValueError):
+    """A route name the scenario does not have; lists the scenario's routes.
+
+    A ``KeyError`` as :func:`resolve_route` raised before, and a
+    ``ValueError`` as the environment and the evaluation raised.
+    """
+
+    kind = "route"
+
+
+def route_spec(site: Site, name: str) -> RouteSpec:
+    """The route called ``name`` in ``site``'s scenario: every door checks route names here.
+
+    Raises:
+        UnknownRouteError: the scenario has no such route.
+    """
+    routes = site.scenario.routes
+    if not isinstance(name, str) or name not in routes:
+        raise UnknownRouteError(name, list(routes), f"in scenario {site.name!r}")
+    return routes[name]
+
+
 def resolve_route(site: Site, route: str | RouteSpec | Route) -> Route:
-    """A walkable :class:`Route` from a route name of the scenario, a spec, or a route."""
+    """A walkable :class:`Route` from a route name of the scenario, a spec, or a route.
+
+    Raises:
+        UnknownRouteError: a name the scenario does not have.
+        RouteError: a route that cannot be walked.
+    """
     if isinstance(route, Route):
         return route
     if isinstance(route, str):
-        routes = site.scenario.routes
-        if route not in routes:
-            raise KeyError(
-                f"scenario {site.name!r} has no route {route!r}; "
-                f"routes are {sorted(routes) or 'none'}"
-            )
-        return plan_route(site.plan, routes[route], name=route)
+        return plan_route(site.plan, route_spec(site, route), name=route)
     return plan_route(site.plan, route, name="custom")
 
 
@@ -117,7 +137,7 @@ def simulate(
     site: Site,
     *,
     route: str | RouteSpec | Route,
-    mode: ModeSchedule = "handheld",
+    mode: ScheduleLike = "handheld",
     device: str | DeviceProfile = "ideal",
     seed: int = 0,
     walker: WalkerParams | None = None,
@@ -130,7 +150,8 @@ def simulate(
     Args:
         site: the building.
         route: a route name of the scenario, a :class:`RouteSpec` or a planned :class:`Route`.
-        mode: a carrying-mode name, or a schedule ``[(t_start, mode_name[, params]), ...]``.
+        mode: a carrying-mode name, a schedule ``[(t_start, mode_name[, params]), ...]``,
+            or a :class:`~indoorsim.walker.schedule.ModeSchedule`.
         device: a device-profile name or profile.
         seed: the run's seed (walker, carrying mode and every sensor draw from it).
         walker: pedestrian parameters (defaults: an average adult).
@@ -155,15 +176,16 @@ def simulate(
     profile = get_device(device) if isinstance(device, str) else device
     rngs = run_streams(seed)
     planned = resolve_route(site, route)
+    schedule = ModeSchedule.of(mode)
     params = walker or WalkerParams()
     body = walk(
         site.plan, planned, params, rngs["walker"], rate_hz=truth_rate_hz, until_s=duration_s
     )
     if duration_s is not None:
         body = body.window(0, int(np.searchsorted(body.t, duration_s, side="right")))
-    phone = carry(body, mode, rngs["carry"])
+    phone = carry(body, schedule, rngs["carry"])
     samples = sample_sensors(site, phone, profile, rngs, light_sample_hz=light_sample_hz)
-    rec = _recording(site, planned, body, phone, samples, profile, seed, mode, params)
+    rec = _recording(site, planned, body, phone, samples, profile, seed, schedule, params)
     if duration_s is not None:
         rec.meta["duration_s"] = float(duration_s)
     return rec
@@ -288,7 +310,7 @@ def _recording(
     s: PhoneSamples,
     device: DeviceProfile,
     seed: int,
-    mode: ModeSchedule,
+    schedule: ModeSchedule,
     walker: WalkerParams,
 ) -> Recording:
     g = normal_gravity(site.scenario.site.latitude)
@@ -322,7 +344,7 @@ def _recording(
         "scenario": site.name,
         "seed": int(seed),
         "device": device.name,
-        "mode": mode if isinstance(mode, str) else [list(map(_jsonable, m)) for m in mode],
+        "mode": _schedule_meta(schedule),
         "route": {
             "name": route.name,
             "points": np.asarray(route.points).tolist(),
@@ -348,6 +370,12 @@ def _recording(
         "version": _version(),
     }
     return Recording._from_built(streams, meta)
+
+
+def _schedule_meta(schedule: ModeSchedule) -> object:
+    """The schedule as its caller wrote it (a mode name, or its entries), as JSON data."""
+    written = schedule.written
+    return written if isinstance(written, str) else [list(map(_jsonable, m)) for m in written]
 
 
 def _jsonable(v: object) -> object:

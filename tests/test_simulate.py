@@ -11,7 +11,7 @@ from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import get_device
 from indoorsim.phone.kinematics import normal_gravity
 from indoorsim.scenario import RouteSpec
-from indoorsim.simulate import run_streams, sample_sensors, simulate
+from indoorsim.simulate import UnknownRouteError, run_streams, sample_sensors, simulate
 from indoorsim.walker.carry import PhoneTrajectory
 
 
@@ -131,8 +131,14 @@ def test_same_seed_same_bytes_other_seed_different(corridor, tmp_path):
 
 
 def test_unknown_route_is_a_clear_error(corridor):
-    with pytest.raises(KeyError, match="no route 'nope'; routes are"):
+    routes = ", ".join(corridor.scenario.routes)
+    with pytest.raises(UnknownRouteError) as info:
         simulate(corridor, route="nope")
+    assert isinstance(info.value, KeyError)  # as it was before it had its own type
+    assert info.value.valid == tuple(corridor.scenario.routes)
+    assert str(info.value) == (
+        f"unknown route 'nope' in scenario 'han2023_corridor'; valid routes are: {routes}"
+    )
 
 
 def test_noisy_magnetometers_read_the_path_field_noiseless_ones_the_exact_sum(

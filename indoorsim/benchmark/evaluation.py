@@ -50,9 +50,10 @@ from indoorsim.io.fingerprints import FingerprintDB
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
 from indoorsim.scenario.schema import GridSurveySpec, WalkSurveySpec
-from indoorsim.simulate import ModeSchedule, simulate
+from indoorsim.simulate import route_spec, simulate
 from indoorsim.survey import grid_survey, walk_survey
 from indoorsim.util.provenance import git_revision
+from indoorsim.walker.schedule import ModeSchedule, ScheduleLike
 from indoorsim.windows import Windower
 from indoorsim.world.site import Site
 
@@ -110,7 +111,7 @@ def training_walks(
     site: Site,
     test_route: str,
     *,
-    mode: ModeSchedule,
+    mode: ScheduleLike,
     device: str,
     n: int = 2,
     seed: int = TRAIN_SEED,
@@ -312,20 +313,18 @@ def evaluate(
     """Score ``estimator`` (a registered name or ``module:Class``) over ``seeds``.
 
     ``params`` go to the estimator's constructor.
-    """
-    from indoorsim.walker.carry import available_modes
 
+    Raises:
+        UnknownRouteError: ``route`` is not one of the scenario's routes.
+        UnknownModeError: ``mode`` is not a carrying mode (both are ``ValueError``).
+    """
     site = scenario if isinstance(scenario, Site) else load_site(scenario)
     route = route or next(iter(site.scenario.routes))
-    if route not in site.scenario.routes:
-        raise ValueError(
-            f"route {route!r}: {site.name} has routes {', '.join(site.scenario.routes)}"
-        )
-    if mode not in available_modes():
-        raise ValueError(f"mode {mode!r}: carrying modes are {', '.join(available_modes())}")
+    route_spec(site, route)
+    schedule = ModeSchedule.of(mode)
     ctx = site_context(site, device=device, survey_device=survey_device, window_s=window_s)
     est = make(estimator, **(params or {}))
-    train = training_walks(site, route, mode=mode, device=device, n=n_train)
+    train = training_walks(site, route, mode=schedule, device=device, n=n_train)
     config = {
         "env_id": env_id(site.name),
         "route": route,
@@ -346,7 +345,7 @@ def evaluate(
     for seed in seeds:
         if progress:
             progress(f"{site.name} {mode} {estimator} seed {seed}")
-        rec = simulate(site, route=route, mode=mode, device=device, seed=seed)
+        rec = simulate(site, route=route, mode=schedule, device=device, seed=seed)
         res = run_episode(est, rec, ctx, start_info(rec, seed))
         truth_xy = true_positions_at(rec, res.t)
         frame = res.frame().drop(columns="latency_s")

@@ -13,8 +13,9 @@ unknown keys are rejected and every error names the file and the key path.
 
 from __future__ import annotations
 
+import functools
 import json
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -22,6 +23,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from indoorsim.scenario.schema import key_path
+from indoorsim.util.errors import UnknownNameError
 
 __all__ = ["DatasetConfig", "DatasetConfigError", "Range", "WalkerRanges", "load_config"]
 
@@ -191,26 +193,26 @@ class DatasetConfig(_Strict):
             DatasetConfigError: an unknown scenario, kind, mode or device name,
                 with the key and the valid names.
         """
-        from indoorsim.phone.devices import available_devices
+        from indoorsim.phone.devices import UnknownDeviceError, available_devices
         from indoorsim.scenario.generate import KINDS
-        from indoorsim.scenario.load import bundled_scenarios
-        from indoorsim.walker.carry import available_modes
+        from indoorsim.scenario.load import UnknownScenarioError, bundled_scenarios
+        from indoorsim.walker.modes import UnknownModeError, available_modes
 
         problems: list[tuple[str, str]] = []
         known_scenarios = list(bundled_scenarios())
         bundled = known_scenarios if self.bundled is None else list(self.bundled)
-        checks = (
-            ("bundled", bundled, known_scenarios),
-            ("generated_kinds", self.generated_kinds, sorted(KINDS)),
-            ("modes", self.modes, available_modes()),
-            ("devices", self.devices, sorted(available_devices())),
+        # Building kinds have no error type of their own (scenario.generate raises KeyError).
+        unknown_kind = functools.partial(UnknownNameError, kind="building kind")
+        checks: tuple[tuple[str, list[str], list[str], Callable[..., UnknownNameError]], ...] = (
+            ("bundled", bundled, known_scenarios, UnknownScenarioError),
+            ("generated_kinds", self.generated_kinds, sorted(KINDS), unknown_kind),
+            ("modes", self.modes, available_modes(), UnknownModeError),
+            ("devices", self.devices, sorted(available_devices()), UnknownDeviceError),
         )
-        for key, names, valid in checks:
+        for key, names, valid, unknown in checks:
             for i, name in enumerate(names):
                 if name not in valid:
-                    problems.append(
-                        (f"{key}[{i}]", f"unknown name {name!r}; valid: {', '.join(valid)}")
-                    )
+                    problems.append((f"{key}[{i}]", str(unknown(name, valid))))
         n_bundled = round(self.sites * self.bundled_share) if bundled else 0
         if self.sites - min(n_bundled, len(bundled)) > 0 and not self.generated_kinds:
             problems.append(

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from indoorsim.dataset.config import DatasetConfig
+from indoorsim.walker.schedule import ModeSchedule
 
 __all__ = ["Plan", "ShardSpec", "SiteSpec", "WalkSpec", "make_plan", "split_sites"]
 
@@ -89,6 +90,11 @@ class WalkSpec:
     modes: list[list[Any]]
     route_seed: int
     seed: int
+
+    @property
+    def schedule(self) -> ModeSchedule:
+        """:attr:`modes` as the checked schedule the walk's simulation follows."""
+        return ModeSchedule.of([(float(t), str(m)) for t, m in self.modes])
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -253,7 +253,7 @@ def simulate_walk(site: Site, walk: WalkSpec, config: DatasetConfig) -> Recordin
     return simulate(
         site,
         route=route,
-        mode=[(float(t), str(m)) for t, m in walk.modes],
+        mode=walk.schedule,
         device=dataset_device(walk.device, config.imu_rate_hz),
         seed=walk.seed,
         walker=WalkerParams(**walk.walker),

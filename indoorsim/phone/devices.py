@@ -42,6 +42,8 @@ from dataclasses import dataclass, field
 from importlib.metadata import entry_points
 from types import MappingProxyType
 
+from indoorsim.util.errors import UnknownNameError
+
 __all__ = [
     "DEVICES",
     "ENTRY_POINT_GROUP",
@@ -864,8 +866,10 @@ DEVICES: Mapping[str, DeviceProfile] = MappingProxyType(
 """The built-in profiles by name (read-only). Plugins add more: see :func:`available_devices`."""
 
 
-class UnknownDeviceError(LookupError):
+class UnknownDeviceError(UnknownNameError):
     """A device name that is neither built in nor provided by an entry point."""
+
+    kind = "device"
 
 
 def available_devices() -> dict[str, DeviceProfile]:
@@ -909,7 +913,5 @@ def get_device(name: str) -> DeviceProfile:
         return DEVICES[name]
     known = available_devices()
     if name not in known:
-        raise UnknownDeviceError(
-            f"unknown device {name!r}; valid devices are: {', '.join(sorted(known))}"
-        )
+        raise UnknownDeviceError(name, sorted(known))
     return known[name]

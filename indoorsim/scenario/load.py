@@ -1,14 +1,22 @@
-"""Scenario files: parse, load and dump YAML, and the bundled scenarios by name.
+"""Scenario files: parse, load and dump YAML, the bundled scenarios by name, and Sites.
 
 Every error names the file, the dotted key path and the problem, and nothing is
 half-loaded: :func:`load_scenario` either returns a fully validated
 :class:`~indoorsim.scenario.schema.Scenario` (schema *and* geometry checked) or
 raises :class:`~indoorsim.scenario.schema.ScenarioError` listing every problem found.
+
+:func:`load_site` is the one way from a scenario name or file to a
+:class:`~indoorsim.world.site.Site`: it gives the same Site object for the same
+unchanged file, so what is cached per Site (the surveys of
+:func:`indoorsim.benchmark.evaluation.site_context`) is computed once per process.
 """
 
 from __future__ import annotations
 
+import threading
 import warnings
+from collections import OrderedDict
+from collections.abc import Iterable
 from importlib import resources
 from importlib.metadata import entry_points
 from pathlib import Path
@@ -19,10 +27,12 @@ from pydantic import ValidationError
 
 from indoorsim.scenario.checks import geometry_problems, reference_problems
 from indoorsim.scenario.schema import SURVEY_KINDS, Scenario, ScenarioError, key_path
+from indoorsim.util.errors import UnknownNameError
 from indoorsim.world.site import Site
 
 __all__ = [
     "ENTRY_POINT_GROUP",
+    "UnknownScenarioError",
     "bundled_scenarios",
     "dump_scenario",
     "load_scenario",
@@ -201,11 +211,28 @@ def bundled_scenarios() -> dict[str, Path]:
     return names
 
 
+class UnknownScenarioError(UnknownNameError, ScenarioError):
+    """A scenario name that is neither bundled (or from a plug-in) nor a file.
+
+    Also a :class:`~indoorsim.scenario.schema.ScenarioError`, as it was before
+    it had its own type: ``source`` is the name, with one problem.
+    """
+
+    kind = "scenario"
+    valid_label = "bundled scenarios"
+
+    def __init__(self, name: str, valid: Iterable[str], where: str = "", kind: str = ""):
+        super().__init__(name, valid, where, kind)
+        self.source = name
+        self.problems = [("", self.message)]
+
+
 def resolve_scenario(name_or_path: str | Path) -> Path:
     """The YAML path for a bundled scenario name, or ``name_or_path`` if it is a file.
 
     Raises:
-        ScenarioError: neither a known name nor an existing file; lists the names.
+        UnknownScenarioError: neither a known name nor an existing file; lists the names.
+        ScenarioError: a ``.yaml``/``.yml`` path that is not a file.
     """
     known = bundled_scenarios()
     if str(name_or_path) in known:
@@ -215,14 +242,38 @@ def resolve_scenario(name_or_path: str | Path) -> Path:
         if not path.is_file():
             raise ScenarioError(str(path), [("", "no such file")])
         return path
-    raise ScenarioError(
-        str(name_or_path),
-        [("", f"unknown scenario; bundled scenarios are: {', '.join(known) or 'none'}")],
-    )
+    raise UnknownScenarioError(str(name_or_path), known)
+
+
+_SITE_CACHE_SIZE = 32
+_sites: OrderedDict[tuple[str, int, int], Site] = OrderedDict()
+"""Sites by (resolved path, mtime in ns, size) of their file, least recently used first."""
+_sites_lock = threading.Lock()  # threaded Dask workers load sites concurrently
 
 
 def load_site(name_or_path: str | Path | Scenario) -> Site:
-    """Load a bundled scenario by name, a scenario YAML file, or a :class:`Scenario` into a Site."""
+    """The Site of a bundled scenario name, a scenario YAML file, or a :class:`Scenario`.
+
+    A name or a path gives the same Site object as long as its file is
+    unchanged (same resolved path, modification time and size); an edited file
+    is loaded again. A :class:`Scenario` always gives a new Site.
+
+    Raises:
+        UnknownScenarioError: neither a known name nor an existing file.
+        ScenarioError: a file that cannot be read or is not a valid scenario.
+    """
     if isinstance(name_or_path, Scenario):
         return Site(name_or_path)
-    return Site(load_scenario(resolve_scenario(name_or_path)))
+    path = resolve_scenario(name_or_path)
+    stat = path.stat()
+    key = (str(path.resolve()), stat.st_mtime_ns, stat.st_size)
+    with _sites_lock:
+        site = _sites.get(key)
+        if site is None:
+            # Loaded from the path as given, so that errors name the file as the caller did.
+            site = _sites[key] = Site(load_scenario(path))
+            if len(_sites) > _SITE_CACHE_SIZE:
+                _sites.popitem(last=False)
+        else:
+            _sites.move_to_end(key)
+    return site

@@ -17,10 +17,10 @@ phone in one or more carrying modes (DESIGN §5, numbers from REALISM §6.1):
   strike, in the dark.
 
 Modes are components: frozen dataclasses whose fields are their parameters,
-registered by name in :data:`MODES`. Other packages add modes through the
-``indoorsim.modes`` entry-point group (each entry point loads a
-:class:`CarryMode` subclass); :func:`get_mode` finds either kind and lists
-the valid names when it cannot.
+registered by name (the protocol and the registry, with its entry-point group
+for other packages' modes, are in :mod:`indoorsim.walker.modes`). The
+schedule :func:`carry` follows is a :class:`~indoorsim.walker.schedule.ModeSchedule`,
+checked when it is made; :func:`carry` adds the checks that need the walk.
 
 Frames (DESIGN §2): building frame x, y, z up; phone frame as Android's
 sensor frame (x right, y up along the screen, z out of the screen); the body
@@ -36,15 +36,12 @@ in a pocket (fabric).
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import itertools
 import math
-from abc import ABC, abstractmethod
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from importlib.metadata import entry_points
-from typing import Any, ClassVar, Literal
+from typing import ClassVar, Literal
 
 import numba
 import numpy as np
@@ -58,7 +55,17 @@ from scipy.spatial.transform import Rotation
 
 from indoorsim.util import quaternion as quat_ops
 from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory, smootherstep
+from indoorsim.walker.modes import (
+    ENTRY_POINT_GROUP,
+    MODES,
+    CarryMode,
+    ModePose,
+    available_modes,
+    get_mode,
+    register_mode,
+)
 from indoorsim.walker.motion import impulse_displacement
+from indoorsim.walker.schedule import ModeSchedule, ScheduleError, ScheduleLike
 
 __all__ = [
     "ENTRY_POINT_GROUP",
@@ -76,9 +83,6 @@ __all__ = [
     "get_mode",
     "register_mode",
 ]
-
-ENTRY_POINT_GROUP = "indoorsim.modes"
-"""Entry-point group through which other packages add carrying modes."""
 
 _G = 9.81
 # Segment heights and lengths as fractions of body height (Drillis & Contini
@@ -114,91 +118,15 @@ class PhoneTrajectory:
     light_exposure: NDArray[np.float64]
 
 
-@dataclass(frozen=True, kw_only=True, eq=False)
-class ModePose:
-    """One mode's phone pose over a stretch of samples.
-
-    Attributes:
-        pos: (K, 3) position, building frame.
-        rot: K world←phone rotations.
-        light_exposure: (K,) in [0, 1].
-    """
-
-    pos: NDArray[np.float64]
-    rot: Rotation
-    light_exposure: NDArray[np.float64]
-
-
-class CarryMode(ABC):
-    """A way of carrying the phone. Subclasses are ``@dataclass(kw_only=True, frozen=True)``
-    components whose fields are the mode's parameters, with working defaults.
-    """
-
-    name: ClassVar[str]
-
-    @abstractmethod
-    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
-        """The phone's pose while the body moves as ``body`` (any stretch of a walk).
-
-        Args:
-            body: the body trajectory, possibly a window of a longer one.
-            rng: randomness for this use of the mode (placement, amplitudes).
-        """
-
-
-MODES: dict[str, type[CarryMode]] = {}
-"""Built-in and registered carrying modes by name."""
-
-
-def register_mode(cls: type[CarryMode]) -> type[CarryMode]:
-    """Class decorator: add a :class:`CarryMode` subclass to :data:`MODES` under ``cls.name``."""
-    if not (isinstance(cls, type) and issubclass(cls, CarryMode)):
-        raise TypeError(f"{cls!r} is not a CarryMode subclass")
-    if MODES.get(cls.name, cls) is not cls:
-        raise ValueError(f"a different carrying mode is already registered as {cls.name!r}")
-    MODES[cls.name] = cls
-    return cls
-
-
-def _load_plugins() -> None:
-    for ep in entry_points(group=ENTRY_POINT_GROUP):
-        if ep.name not in MODES:
-            cls = ep.load()
-            if not (isinstance(cls, type) and issubclass(cls, CarryMode)):
-                raise TypeError(
-                    f"entry point {ep.name!r} in {ENTRY_POINT_GROUP!r} loads {cls!r}, "
-                    "not a CarryMode subclass"
-                )
-            MODES[ep.name] = cls
-
-
-def available_modes() -> list[str]:
-    """Names of every carrying mode: built in, registered, or from entry points."""
-    _load_plugins()
-    return sorted(MODES)
-
-
-def get_mode(name: str) -> type[CarryMode]:
-    """The carrying-mode class registered as ``name``.
-
-    Raises:
-        KeyError: for an unknown name; the message lists the valid ones.
-    """
-    if name not in MODES:
-        _load_plugins()
-    if name not in MODES:
-        raise KeyError(f"unknown carrying mode {name!r}; valid modes are {sorted(MODES)}")
-    return MODES[name]
-
-
 # ---------------------------------------------------------------------- carry
 
-Schedule = str | Sequence[tuple[float, str] | tuple[float, str, Mapping[str, Any]]]
+Schedule = ScheduleLike
+"""What :func:`carry` takes as its schedule (the name before :mod:`~indoorsim.walker.schedule`)."""
 
 
 def carry(
     body: BodyTrajectory,
-    schedule: Schedule,
+    schedule: ScheduleLike,
     rng: np.random.Generator,
     transition_s: float = 1.5,
 ) -> PhoneTrajectory:
@@ -206,10 +134,12 @@ def carry(
 
     Args:
         body: the walker's body trajectory (from :func:`~indoorsim.walker.gait.walk`).
-        schedule: a mode name for the whole walk, or a list of
-            ``(t_start, mode_name)`` or ``(t_start, mode_name, params)``
-            entries, the first at t = 0, each later one at least
-            ``transition_s`` after the one before. ``params`` are the mode's
+        schedule: a :class:`~indoorsim.walker.schedule.ModeSchedule`, or
+            what :meth:`~indoorsim.walker.schedule.ModeSchedule.of` takes: a
+            mode name for the whole walk, or a list of ``(t_start, mode_name)``
+            or ``(t_start, mode_name, params)`` entries, the first at t = 0.
+            Each later one must start at least ``transition_s`` after the one
+            before and before the walk ends. ``params`` are the mode's
             fields, e.g. ``(0.0, "handheld", {"pitch_deg": 0.0})``.
         rng: the only source of randomness.
         transition_s: how long a change of mode takes (1–3 s, REALISM §6.1);
@@ -219,8 +149,9 @@ def carry(
         The phone trajectory on the body's time base.
 
     Raises:
-        ValueError: for a malformed schedule or unknown mode parameters.
-        KeyError: for an unknown mode name.
+        ScheduleError: for a schedule that is malformed or does not fit the
+            walk (a ``ValueError``).
+        UnknownModeError: for an unknown mode name (a ``KeyError``).
     """
     if not 0 < transition_s <= 10:
         raise ValueError(f"transition_s must be in (0, 10] s, got {transition_s}")
@@ -283,46 +214,24 @@ def carry(
 
 
 def _parse_schedule(
-    schedule: Schedule, body: BodyTrajectory, transition_s: float
+    schedule: ScheduleLike, body: BodyTrajectory, transition_s: float
 ) -> list[tuple[float, CarryMode]]:
-    raw = [(0.0, schedule)] if isinstance(schedule, str) else list(schedule)
-    if not raw:
-        raise ValueError("empty carrying schedule")
+    """The schedule's modes, built, at their starts on ``body``'s clock.
+
+    Raises:
+        ScheduleError: a change after the walk ends or within ``transition_s``
+            of the one before, besides what :class:`ModeSchedule` checks.
+    """
     out: list[tuple[float, CarryMode]] = []
-    for i, entry in enumerate(raw):
-        if not isinstance(entry, tuple | list) or len(entry) not in (2, 3):
-            raise ValueError(
-                f"schedule[{i}]: expected (t_start, mode) or (t_start, mode, params), got {entry!r}"
-            )
-        try:
-            t_start, name = float(entry[0]), entry[1]
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"schedule[{i}]: the start time must be a number of seconds, got {entry[0]!r}"
-            ) from None
-        if not math.isfinite(t_start):
-            raise ValueError(f"schedule[{i}]: the start time must be finite, got {t_start}")
-        params = dict(entry[2]) if len(entry) == 3 else {}
-        if i == 0 and t_start > body.t[0]:
-            raise ValueError(f"schedule[0]: the first mode must start at 0, not {t_start}")
+    for i, (t_start, name, params) in enumerate(ModeSchedule.of(schedule).entries):
         if i > 0 and t_start < out[-1][0] + transition_s:
-            raise ValueError(
+            raise ScheduleError(
                 f"schedule[{i}]: starts at {t_start} s, less than the {transition_s} s "
                 f"transition after the previous mode at {out[-1][0]} s"
             )
         if i > 0 and t_start >= body.t[-1]:
-            raise ValueError(f"schedule[{i}]: starts at {t_start} s, after the walk ends")
-        cls = get_mode(name)
-        fields = (
-            {f.name for f in dataclasses.fields(cls)} if dataclasses.is_dataclass(cls) else set()
-        )
-        unknown = sorted(set(params) - fields)
-        if unknown:
-            raise ValueError(
-                f"schedule[{i}]: unknown parameter(s) {unknown} for mode {name!r}; "
-                f"its parameters are {sorted(fields)}"
-            )
-        out.append((max(t_start, float(body.t[0])), cls(**params)))
+            raise ScheduleError(f"schedule[{i}]: starts at {t_start} s, after the walk ends")
+        out.append((max(t_start, float(body.t[0])), get_mode(name)(**params)))
     return out
 
 

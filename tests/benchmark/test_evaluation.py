@@ -1,10 +1,6 @@
-"""The evaluation protocol: the contract check, episodes, starts, training walks, plug-ins, CLI."""
+"""The evaluation protocol: the contract check, episodes, starts, training walks, plug-ins."""
 
 from __future__ import annotations
-
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -20,9 +16,10 @@ from indoorsim.benchmark.evaluation import (
 )
 from indoorsim.benchmark.leaderboard import evaluate, markdown_table
 from indoorsim.benchmark.metrics import SUMMARY_KEYS
-from indoorsim.cli import main
 from indoorsim.estimators.base import SiteContext, StartInfo, UnknownEstimatorError, available, make
 from indoorsim.io.recording import Recording
+from indoorsim.simulate import UnknownRouteError
+from indoorsim.walker.modes import UnknownModeError
 from tests.conftest import REALDATA
 
 ILC = REALDATA / "ms-indoor-location-2020/site1/F1/path_data_files"
@@ -83,6 +80,16 @@ def test_unknown_estimator_lists_the_available_ones():
         make("no_such_module:Thing")
 
 
+def test_unknown_routes_and_modes_are_refused_before_the_surveys():
+    site = indoorsim.load_site("minimal_room")
+    with pytest.raises(UnknownRouteError, match=r"unknown route 'nowhere' in scenario"):
+        evaluate("start-only", site, route="nowhere")
+    with pytest.raises(UnknownModeError, match=r"unknown carrying mode 'juggling'"):
+        evaluate("start-only", site, mode="juggling")
+    # Both stay ValueErrors, as the evaluation raised before they had their own types.
+    assert issubclass(UnknownRouteError, ValueError) and issubclass(UnknownModeError, ValueError)
+
+
 def test_training_walks_use_other_routes_and_seeds():
     site = indoorsim.load_site("han2023_corridor")
     walks = training_walks(site, "trajectory", mode="handheld", device="ideal", n=2)
@@ -123,69 +130,6 @@ def test_episode_rejects_a_nan_estimate():
         run_episode(_Broken(), rec, ctx, StartInfo(position=np.zeros(2), heading=0.0))
 
 
-def test_evaluate_cli_writes_walks_and_fails_above_thresholds(tmp_path, capsys):
-    args = ["evaluate", "--estimator", "start-only", "--scenario", "minimal_room", "--seeds", "1"]
-    args += ["--device", "ideal"]
-    assert main([*args, "--out", str(tmp_path / "ok"), "--fail-above", "ae=100"]) == 0
-    folder = tmp_path / "ok" / "minimal_room_handheld_start-only_seed0"
-    assert list(pd.read_csv(folder / "estimates.csv").columns) == [
-        "t",
-        "x",
-        "y",
-        "true_x",
-        "true_y",
-    ]
-    assert "ae" in pd.read_csv(folder / "metrics.csv").columns
-    assert main([*args, "--out", str(tmp_path / "bad"), "--fail-above", "ae=0.01,cep95=100"]) == 3
-    assert "ae = " in capsys.readouterr().err
-    assert main([*args, "--out", str(tmp_path / "x"), "--fail-above", "speed=1"]) == 2
-    assert main([*args[:2], "nope", *args[3:], "--out", str(tmp_path / "y")]) == 2
-    assert "unknown estimator 'nope'; available:" in capsys.readouterr().err
-
-
-def _install_plugin(root: Path) -> None:
-    (root / "tiny_estimator_plugin.py").write_text(
-        "import numpy as np\n"
-        "class Centre:\n"
-        "    name = 'tiny-centre'\n"
-        "    def fit(self, site, train):\n"
-        "        xmin, ymin, xmax, ymax = site.plan.bounds\n"
-        "        self.centre = np.array([(xmin + xmax) / 2, (ymin + ymax) / 2])\n"
-        "    def reset(self, start):\n"
-        "        pass\n"
-        "    def act(self, obs):\n"
-        "        return self.centre.copy()\n"
-    )
-    dist = root / "tiny_estimator_plugin-1.0.dist-info"
-    dist.mkdir()
-    (dist / "METADATA").write_text(
-        "Metadata-Version: 2.1\nName: tiny-estimator-plugin\nVersion: 1.0\n"
-    )
-    (dist / "entry_points.txt").write_text(
-        "[indoorsim.estimators]\ntiny-centre = tiny_estimator_plugin:Centre\n"
-    )
-
-
-def test_an_outside_plugin_runs_through_the_cli(tmp_path):
-    plugin = tmp_path / "site-packages"
-    plugin.mkdir()
-    _install_plugin(plugin)
-    cmd = [sys.executable, "-m", "indoorsim", "evaluate", "--estimator", "tiny-centre"]
-    cmd += ["--scenario", "minimal_room", "--seeds", "1", "--device", "ideal"]
-    cmd += ["--out", str(tmp_path / "out")]
-    env = {"PYTHONPATH": str(plugin), "PATH": "/usr/bin:/bin"}
-    done = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=300)
-    assert done.returncode == 0, done.stderr
-    summary = pd.read_csv(tmp_path / "out" / "summary.csv")
-    assert summary["estimator"].iloc[0] == "tiny-centre" and summary["ae"].iloc[0] > 0
-    # The same class by module:Class string, in process.
-    sys.path.insert(0, str(plugin))
-    try:
-        assert make("tiny_estimator_plugin:Centre").name == "tiny-centre"
-    finally:
-        sys.path.remove(str(plugin))
-
-
 @pytest.mark.parametrize(
     ("north_deg", "field"),
     [(0.0, None), (30.0, None), (0.0, [0.0, 30.0, -40.0]), (-40.0, [30.0, 0.0, -40.0])],
@@ -214,12 +158,6 @@ def test_rotation_vector_heading_converts_to_the_building_frame(north_deg, field
     assert np.median(np.abs(err)) < 2.0
 
 
-def test_evaluate_cli_refuses_an_estimator_the_site_cannot_serve(tmp_path, capsys):
-    args = ["evaluate", "--estimator", "wknn-mag", "--scenario", "minimal_room", "--seeds", "1"]
-    assert main([*args, "--device", "ideal", "--out", str(tmp_path / "o")]) == 2
-    assert "not applicable here" in capsys.readouterr().err
-
-
 def test_true_step_count_starts_at_the_first_sample_whatever_the_window():
     site = indoorsim.load_site("minimal_room")
     counts = {
@@ -242,33 +180,3 @@ def test_real_step_count_table_uses_the_reference_counts(tmp_path):
     assert inhand["true_steps"].item() == 292
     assert abs(inhand["error_pct"].item()) < 5  # a phone held in the hand: a clean count
     assert "| hand | 0.5 |" in (tmp_path / "step_counts_real.md").read_text()
-
-
-def test_evaluate_cli_refuses_zero_seeds(tmp_path, capsys):
-    args = ["evaluate", "--estimator", "start-only", "--scenario", "minimal_room", "--seeds", "0"]
-    assert main([*args, "--out", str(tmp_path / "o")]) == 2
-    assert "--seeds: must be > 0" in capsys.readouterr().err and not (tmp_path / "o").exists()
-
-
-def test_evaluate_cli_names_a_recording_that_cannot_be_scored(tmp_path, capsys):
-    site = indoorsim.load_site("minimal_room")
-    rec = indoorsim.simulate.simulate(site, route="main", device="ideal", seed=0, duration_s=5.0)
-    streams = {k: v for k, v in rec.streams.items() if k not in ("truth", "steps")}
-    bare = Recording(streams=streams, meta=rec.meta).save(tmp_path / "bare")
-    args = ["evaluate", "--estimator", "start-only", "--recording", str(bare)]
-    assert main([*args, "--out", str(tmp_path / "o")]) == 2
-    err = capsys.readouterr().err
-    assert f"--recording {bare}: cannot be scored" in err, err
-    assert not (tmp_path / "o").exists()  # nothing written for a run that did not happen
-
-
-def test_leaderboard_cli_takes_a_module_class_estimator(tmp_path, monkeypatch, capsys):
-    plugin = tmp_path / "site-packages"
-    plugin.mkdir()
-    _install_plugin(plugin)
-    monkeypatch.syspath_prepend(str(plugin))
-    args = ["leaderboard", "--quick", "--scenario", "minimal_room", "--out", str(tmp_path / "lb")]
-    assert main([*args, "--estimator", "tiny_estimator_plugin:Centre"]) == 0
-    assert "tiny_estimator_plugin:Centre" in capsys.readouterr().out
-    assert main([*args, "--estimator", "no_such_module:Thing"]) == 2
-    assert "cannot load estimator 'no_such_module:Thing'" in capsys.readouterr().err

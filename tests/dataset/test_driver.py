@@ -98,7 +98,8 @@ def test_bad_configuration_is_rejected_naming_the_file_and_key(tmp_path, capsys)
     fixed = bad.read_text().replace("{low: 1.4, high: 1.0}", "{low: 1.0, high: 1.4}")
     bad.write_text(fixed.replace("colour: 3\n", ""))
     assert main(["dataset", "--config", str(bad), "--out", str(tmp_path / "out")]) == 2
-    assert f"{bad}: devices[0]: unknown name 'nokia_3310'" in capsys.readouterr().err
+    printed = capsys.readouterr().err
+    assert f"{bad}: devices[0]: unknown device 'nokia_3310'; valid devices are: high_" in printed
     assert not (tmp_path / "out").exists()
     with pytest.raises(DatasetConfigError, match="<inline>: stride_samples"):
         validate_config({"window_samples": 100, "stride_samples": 150}, "<inline>")

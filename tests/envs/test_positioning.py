@@ -299,10 +299,16 @@ def test_reset_options_override_route_and_mode_for_one_episode():
     ("options", "message"),
     [
         ({"speed": 2.0}, r"unknown reset option.*'speed'.*valid options: \['route', 'mode'\]"),
-        ({"route": "nowhere"}, r"no route 'nowhere'; valid routes: \['main'\]"),
-        ({"mode": "juggling"}, r"unknown carrying mode 'juggling'; valid modes: \[.*'handheld'"),
-        ({"mode": [(0.0, "handheld"), (5.0, "juggling")]}, r"'juggling'"),
-        ({"mode": 3}, r"mode must be a carrying-mode name or a non-empty schedule"),
+        (
+            {"route": "nowhere"},
+            r"unknown route 'nowhere' in scenario 'minimal_room'; valid routes are: main$",
+        ),
+        (
+            {"mode": "juggling"},
+            r"unknown carrying mode 'juggling'; valid carrying modes are: .*handheld",
+        ),
+        ({"mode": [(0.0, "handheld"), (5.0, "juggling")]}, r"'juggling' in schedule\[1\]"),
+        ({"mode": 3}, r"expected a carrying-mode name or a schedule .*got 3"),
     ],
 )
 def test_bad_reset_options_say_what_is_valid(options, message):
@@ -314,16 +320,17 @@ def test_bad_reset_options_say_what_is_valid(options, message):
 @pytest.mark.parametrize(
     ("kwargs", "error", "message"),
     [
-        ({"route": "nowhere"}, ValueError, r"valid routes: \['main'\]"),
-        ({"mode": "juggling"}, ValueError, r"valid modes"),
+        ({"route": "nowhere"}, ValueError, r"valid routes are: main"),
+        ({"mode": "juggling"}, ValueError, r"valid carrying modes are"),
         ({"device": "nokia_3310"}, LookupError, r"valid devices are"),
         ({"survey_device": "nokia_3310"}, LookupError, r"valid devices are"),
         ({"window_s": 0.0}, ValueError, r"window_s must be a number of seconds in \(0, 60\]"),
         ({"window_s": 1e6}, ValueError, r"window_s must be .* got 1000000\.0"),
         ({"window_s": True}, ValueError, r"window_s must be .* got True"),
-        ({"mode": [("x", "handheld")]}, ValueError, r"mode\[0\]\[0\]: .* must be a number"),
-        ({"mode": [(0, "handheld"), (-1, "pocketed")]}, ValueError, r"mode\[1\]\[0\]: .* ≥ 0"),
-        ({"mode": [(0, "handheld"), (0, "pocketed")]}, ValueError, r"mode\[1\]\[0\]: .*increase"),
+        ({"mode": [("x", "handheld")]}, ValueError, r"schedule\[0\]: .* must be a number"),
+        ({"mode": [(0, "handheld"), (-1, "pocketed")]}, ValueError, r"schedule\[1\]: .*increase"),
+        ({"mode": [(0, "handheld"), (0, "pocketed")]}, ValueError, r"schedule\[1\]: .*increase"),
+        ({"mode": [(0, "handheld", {"pich_deg": 1})]}, ValueError, r"schedule\[0\]: .*pich_deg"),
         ({"render_mode": "human"}, ValueError, r"render_mode must be None or one of"),
     ],
 )

@@ -17,6 +17,7 @@ from indoorsim.scenario import (
     parse_scenario,
     resolve_scenario,
 )
+from indoorsim.scenario.load import UnknownScenarioError, load_site
 
 
 @pytest.fixture
@@ -251,8 +252,32 @@ def test_missing_file_and_non_mapping(tmp_path: Path):
 
 
 def test_unknown_scenario_name_lists_the_bundled_ones():
-    with pytest.raises(ScenarioError, match="bundled scenarios are"):
+    with pytest.raises(ScenarioError, match="bundled scenarios are") as info:
         resolve_scenario("no_such_building")
+    err = info.value
+    assert isinstance(err, UnknownScenarioError) and isinstance(err, LookupError)
+    assert err.valid == tuple(bundled_scenarios()) and err.source == "no_such_building"
+    assert str(err) == (
+        f"unknown scenario 'no_such_building'; bundled scenarios are: {', '.join(err.valid)}"
+    )
+
+
+def test_load_site_gives_one_site_per_unchanged_file(minimal_site_path: Path, tmp_path: Path):
+    site = load_site("minimal_room")
+    assert load_site("minimal_room") is site
+    assert load_site(bundled_scenarios()["minimal_room"]) is site  # the same file by its path
+    copy_path = tmp_path / "room.yaml"
+    copy_path.write_bytes(minimal_site_path.read_bytes())
+    mine = load_site(copy_path)
+    assert mine is not site and load_site(str(copy_path)) is mine
+    # An edited file (here: another name) is loaded again.
+    copy_path.write_text(
+        copy_path.read_text().replace("name: minimal-room", "name: edited-room"), encoding="utf-8"
+    )
+    edited = load_site(copy_path)
+    assert edited is not mine and edited.name == "edited-room"
+    # A Scenario is not a file: it always gives a new Site.
+    assert load_site(site.scenario) is not load_site(site.scenario)
 
 
 def test_scenarios_are_immutable(minimal_site_path: Path):

@@ -2,45 +2,19 @@
 
 from __future__ import annotations
 
-import dataclasses
-from importlib.metadata import EntryPoint
-from typing import ClassVar
-
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
 import indoorsim.walker.carry as carry_module
 from indoorsim.scenario import RouteSpec
-from indoorsim.walker.carry import (
-    ENTRY_POINT_GROUP,
-    MODES,
-    CarryMode,
-    Handheld,
-    ModePose,
-    PhoneTrajectory,
-    available_modes,
-    carry,
-    get_mode,
-    register_mode,
-)
+from indoorsim.walker.carry import Handheld, PhoneTrajectory, carry
 from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
 from indoorsim.walker.route import plan_route
 from indoorsim.world.plan import FloorPlan
 
 BUILT_IN = ("handheld", "calling", "dangling", "pocketed")
 MIXED = [(0.0, "handheld"), (8.0, "pocketed"), (14.0, "dangling"), (20.0, "calling")]
-
-
-@dataclasses.dataclass(kw_only=True, frozen=True)
-class StrappedMode(CarryMode):
-    """A test plugin: the phone strapped flat to the pelvis, top forward."""
-
-    name: ClassVar[str] = "strapped"
-
-    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
-        rot = Rotation.from_rotvec(np.outer(body.heading - np.pi / 2, [0.0, 0.0, 1.0]))
-        return ModePose(pos=body.pos.copy(), rot=rot, light_exposure=np.ones(len(body.t)))
 
 
 def _rot(phone: PhoneTrajectory) -> Rotation:
@@ -66,54 +40,6 @@ def _forward(body: BodyTrajectory) -> np.ndarray:
 @pytest.fixture(scope="module")
 def straight_phones(straight_body) -> dict[str, PhoneTrajectory]:
     return {m: carry(straight_body, m, np.random.default_rng(3)) for m in BUILT_IN}
-
-
-# ---------------------------------------------------------------------- registry
-
-
-def test_built_in_modes_are_registered():
-    assert set(BUILT_IN) <= set(MODES)
-    assert set(BUILT_IN) <= set(available_modes())
-    assert get_mode("handheld") is Handheld
-    with pytest.raises(KeyError) as err:
-        get_mode("backpack")
-    for name in BUILT_IN:
-        assert name in str(err.value)
-
-
-def test_register_mode_refuses_clashes_and_non_modes():
-    with pytest.raises(TypeError):
-        register_mode(dict)  # type: ignore[arg-type]
-
-    @dataclasses.dataclass(kw_only=True, frozen=True)
-    class Impostor(StrappedMode):
-        name: ClassVar[str] = "handheld"
-
-    with pytest.raises(ValueError, match="already registered"):
-        register_mode(Impostor)
-
-
-def test_a_plugin_mode_loads_from_its_entry_point(monkeypatch, straight_body):
-    ep = EntryPoint(
-        name="strapped", value="tests.walker.test_carry:StrappedMode", group=ENTRY_POINT_GROUP
-    )
-    monkeypatch.setattr(carry_module, "MODES", dict(MODES))
-    monkeypatch.setattr(
-        carry_module, "entry_points", lambda group: [ep] if group == ENTRY_POINT_GROUP else []
-    )
-    assert "strapped" in available_modes()
-    assert get_mode("strapped") is StrappedMode
-    phone = carry(straight_body, "strapped", np.random.default_rng(0))
-    assert set(phone.mode) == {"strapped"}
-    np.testing.assert_allclose(phone.pos, straight_body.pos)
-
-
-def test_an_entry_point_that_is_not_a_mode_is_refused(monkeypatch):
-    ep = EntryPoint(name="bogus", value="indoorsim.walker.gait:walk", group=ENTRY_POINT_GROUP)
-    monkeypatch.setattr(carry_module, "MODES", dict(MODES))
-    monkeypatch.setattr(carry_module, "entry_points", lambda group: [ep])
-    with pytest.raises(TypeError, match="bogus"):
-        get_mode("bogus")
 
 
 # ---------------------------------------------------------------------- invariants

@@ -1,0 +1,248 @@
+"""``indoorsim evaluate`` and ``indoorsim leaderboard``: estimators scored by the protocol.
+
+``evaluate`` scores one estimator on one scenario (or a real recording) and
+can fail a CI run on a metric threshold; ``leaderboard`` regenerates the
+leaderboard tables, CSVs and plots.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from indoorsim.cli.args import (
+    CliError,
+    check_folder,
+    device_profile,
+    mode_schedule,
+    positive,
+    route_name,
+    working,
+)
+
+if TYPE_CHECKING:
+    from indoorsim.cli.args import Subparsers
+
+__all__ = ["add_evaluate", "add_leaderboard"]
+
+
+def _check_estimator(name: str) -> None:
+    """Refuse an estimator that is neither registered nor a loadable ``module:Class``."""
+    from indoorsim.estimators.base import UnknownEstimatorError, make
+
+    try:
+        make(name)
+    except UnknownEstimatorError as err:
+        raise CliError(f"--estimator: {err}") from None
+
+
+# -------------------------------------------------------------------- evaluate
+
+
+def _thresholds(text: str) -> dict[str, float]:
+    """``ae=1.5,cep95=3`` → ``{"ae": 1.5, "cep95": 3.0}`` (metric names as in the CSVs)."""
+    from indoorsim.benchmark.metrics import SUMMARY_KEYS
+
+    out: dict[str, float] = {}
+    for item in text.split(","):
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or name not in SUMMARY_KEYS:
+            raise argparse.ArgumentTypeError(
+                f"{item!r}: expected METRIC=VALUE with METRIC one of {', '.join(SUMMARY_KEYS)}"
+            )
+        try:
+            out[name] = float(value)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{item!r}: {value!r} is not a number") from None
+    return out
+
+
+def add_evaluate(subparsers: Subparsers) -> None:
+    """Declare ``indoorsim evaluate``."""
+    parser = subparsers.add_parser(
+        "evaluate",
+        help="score one estimator on a scenario (or a real recording)",
+        description="Run an estimator through the evaluation protocol: site context and "
+        "training walks, then one test walk per seed. Writes per walk estimates.csv "
+        "(t, x, y, true_x, true_y) and metrics.csv, and a summary.csv. With --fail-above "
+        "the exit status is 3 when any named metric (mean over seeds) is worse than its "
+        "threshold: the CI use case.",
+    )
+    parser.add_argument(
+        "--estimator", required=True, metavar="NAME", help="a registered name or module:Class"
+    )
+    source = parser.add_mutually_exclusive_group(required=True)
+    source.add_argument("--scenario", metavar="NAME_OR_PATH", help="a scenario to simulate")
+    source.add_argument(
+        "--recording",
+        type=Path,
+        metavar="PATH",
+        help="a recording (indoorsim folder or a real log) scored at its true positions",
+    )
+    parser.add_argument("--mode", default="handheld", help="carrying mode (default handheld)")
+    parser.add_argument("--route", default=None, help="test route (default: the first)")
+    parser.add_argument(
+        "--seeds", type=positive(int), default=3, metavar="N", help="test seeds 0..N-1"
+    )
+    parser.add_argument("--device", default="nexus_5x", help="walking phone (default nexus_5x)")
+    parser.add_argument(
+        "--survey-device", default="honor_50", help="survey phone (default honor_50)"
+    )
+    parser.add_argument(
+        "--window", type=positive(float), default=1.0, metavar="S", help="window length, s"
+    )
+    parser.add_argument("--out", type=Path, required=True, metavar="DIR")
+    parser.add_argument(
+        "--fail-above",
+        type=_thresholds,
+        default={},
+        metavar="M=V,...",
+        help="exit 3 if any of these metrics exceeds its value, e.g. ae=1.5,cep95=3",
+    )
+    parser.set_defaults(handler=_run_evaluate)
+
+
+def _run_evaluate(args: argparse.Namespace) -> int:
+    import pandas as pd
+
+    from indoorsim.benchmark import evaluation, leaderboard
+    from indoorsim.io.recording import MissingStreamError, Recording, RecordingError
+
+    check_folder(args.out)
+    _check_estimator(args.estimator)
+    # --out is created only once there are results to write in it.
+    if args.recording is not None:
+        try:
+            rec = Recording.load(args.recording)
+        except (RecordingError, OSError) as err:
+            raise CliError(f"--recording {args.recording}: {err}") from None
+        from indoorsim.estimators.base import NotApplicableError
+
+        try:
+            with working(f"evaluating {args.estimator}"):
+                walk = evaluation.evaluate_recording(args.estimator, rec, window_s=args.window)
+        except NotApplicableError as err:
+            raise CliError(f"--estimator {args.estimator}: not applicable here: {err}") from None
+        except (MissingStreamError, ValueError) as err:
+            # A log without the truth or waypoints that scoring needs.
+            raise CliError(f"--recording {args.recording}: cannot be scored: {err}") from None
+        args.out.mkdir(parents=True, exist_ok=True)
+        walk.estimates.to_csv(args.out / "estimates.csv", index=False)
+        summary = pd.DataFrame([{"estimator": args.estimator, **walk.metrics}])
+    else:
+        from indoorsim.scenario.load import load_site
+
+        site = load_site(args.scenario)
+        if args.route is not None:
+            route_name(site, args.route)
+        mode_schedule(args.mode, one_mode=True)
+        device_profile(args.device)
+        device_profile(args.survey_device)
+        from tqdm import tqdm
+
+        with tqdm(total=args.seeds, desc=args.estimator, disable=None, file=sys.stderr) as bar:
+            ev = evaluation.evaluate(
+                args.estimator,
+                site,
+                mode=args.mode,
+                seeds=tuple(range(args.seeds)),
+                route=args.route,
+                device=args.device,
+                survey_device=args.survey_device,
+                window_s=args.window,
+                progress=lambda _msg: bar.update(1),  # called as each seed's walk starts
+            )
+        if ev.note:
+            raise CliError(f"--estimator {args.estimator}: not applicable here: {ev.note}")
+        args.out.mkdir(parents=True, exist_ok=True)
+        leaderboard.write_walks(ev, args.out)
+        summary = pd.DataFrame([ev.row()])
+    summary.to_csv(args.out / "summary.csv", index=False)
+    shown = [c for c in ("ae", "rmse", "me", "cep50", "cep95") if c in summary]
+    print(summary[["estimator", *shown]].to_string(index=False, float_format=lambda v: f"{v:.2f}"))
+    worse = {
+        k: float(summary[k].iloc[0])
+        for k, limit in args.fail_above.items()
+        if not float(summary[k].iloc[0]) <= limit  # NaN counts as worse
+    }
+    if worse:
+        for k, v in worse.items():
+            print(f"indoorsim: {k} = {v:.3f} exceeds {args.fail_above[k]:g}", file=sys.stderr)
+        return 3
+    return 0
+
+
+# ----------------------------------------------------------------- leaderboard
+
+
+def add_leaderboard(subparsers: Subparsers) -> None:
+    """Declare ``indoorsim leaderboard``."""
+    parser = subparsers.add_parser(
+        "leaderboard",
+        help="regenerate the leaderboards (tables, CSVs, plots)",
+        description="Evaluate the estimators on the bundled paper scenarios in every carrying "
+        "mode over several seeds, and write per scenario a Markdown table, a CSV with "
+        "provenance, CDF and track plots, plus the real-data table and README.md.",
+    )
+    parser.add_argument(
+        "--scenario", action="append", metavar="NAME", help="only these scenarios (repeatable)"
+    )
+    parser.add_argument(
+        "--estimator", action="append", metavar="NAME", help="only these estimators (repeatable)"
+    )
+    parser.add_argument("--quick", action="store_true", help="one seed, two modes, no real data")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("leaderboards"),
+        metavar="DIR",
+        help="default leaderboards/",
+    )
+    parser.add_argument(
+        "--realdata",
+        type=Path,
+        metavar="DIR",
+        help="the folder of real recordings for the real-data tables (default: "
+        "$INDOORSIM_REALDATA, else ../shared/realdata beside the repository)",
+    )
+    parser.set_defaults(handler=_run_leaderboard)
+
+
+def _run_leaderboard(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from tqdm import tqdm
+
+    from indoorsim.benchmark import leaderboard
+    from indoorsim.scenario.load import UnknownScenarioError, bundled_scenarios
+
+    check_folder(args.out)
+    known = bundled_scenarios()
+    for name in args.scenario or ():
+        if name not in known:
+            raise CliError(f"--scenario {name}: {UnknownScenarioError(name, known)}")
+    for name in args.estimator or ():
+        _check_estimator(name)  # a registered name or a module:Class plug-in, as for evaluate
+    config = (
+        leaderboard.BoardConfig.quick(args.scenario)
+        if args.quick
+        else leaderboard.BoardConfig(
+            **({"scenarios": tuple(args.scenario)} if args.scenario else {})
+        )
+    )
+    if args.estimator:
+        config = dataclasses.replace(config, estimators=tuple(args.estimator))
+    with tqdm(desc="leaderboard", disable=None, file=sys.stderr) as bar:
+        tables = leaderboard.run_leaderboard(
+            config,
+            args.out,
+            progress=lambda msg: (bar.set_postfix_str(msg), bar.update(1)),
+            realdata=args.realdata,
+        )
+    for name, table in tables.items():
+        print(f"\n## {name}\n\n{leaderboard.markdown_table(table)}")
+    print(f"\nwrote {args.out}/")
+    return 0
