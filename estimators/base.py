@@ -38,6 +38,7 @@ from numpy.typing import NDArray
 
 from indoorsim.io.fingerprints import FingerprintDB
 from indoorsim.io.recording import Recording
+from indoorsim.util.errors import UnknownNameError
 from indoorsim.windows import PRESENT_ORDER, Observation
 
 __all__ = [
@@ -143,8 +144,27 @@ def not_reset_error(name: str) -> RuntimeError:
     return RuntimeError(f"{name}: call reset(start) before act(obs)")
 
 
-class UnknownEstimatorError(LookupError):
-    """An estimator name that is neither registered, an entry point, nor ``module:Class``."""
+class UnknownEstimatorError(UnknownNameError):
+    """An estimator name that is neither registered, an entry point, nor ``module:Class``.
+
+    A ``module:Class`` whose import fails is one too; its message then gives
+    the import's error (``reason``) instead of the registered names.
+    """
+
+    kind = "estimator"
+
+    def __init__(self, name: str, valid: Sequence[str] = (), where: str = "", reason: str = ""):
+        self.reason = reason
+        super().__init__(name, valid, where)
+
+    @property
+    def message(self) -> str:
+        if self.reason:
+            return f"cannot load estimator {self.name!r}: {self.reason}"
+        return super().message
+
+    def __reduce__(self) -> tuple[type, tuple[str, tuple[str, ...], str, str]]:
+        return type(self), (self.name, self.valid, self.where, self.reason)
 
 
 _REGISTRY: dict[str, Callable[..., Estimator]] = {}
@@ -186,12 +206,9 @@ def make(spec: str, **kwargs: Any) -> Estimator:
         try:
             target = getattr(importlib.import_module(module), attr)
         except (ImportError, AttributeError) as err:
-            raise UnknownEstimatorError(f"cannot load estimator {spec!r}: {err}") from None
+            raise UnknownEstimatorError(spec, reason=str(err)) from None
         return target(**kwargs)
-    raise UnknownEstimatorError(
-        f"unknown estimator {spec!r}; available: {', '.join(available())} "
-        "(or give 'package.module:Class')"
-    )
+    raise UnknownEstimatorError(spec, [*available(), "or any 'package.module:Class'"])
 
 
 def _load_builtins() -> None:

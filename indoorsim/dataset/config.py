@@ -13,7 +13,6 @@ unknown keys are rejected and every error names the file and the key path.
 
 from __future__ import annotations
 
-import functools
 import json
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -194,18 +193,16 @@ class DatasetConfig(_Strict):
                 with the key and the valid names.
         """
         from indoorsim.phone.devices import UnknownDeviceError, available_devices
-        from indoorsim.scenario.generate import KINDS
+        from indoorsim.scenario.generate import KINDS, UnknownKindError
         from indoorsim.scenario.load import UnknownScenarioError, bundled_scenarios
         from indoorsim.walker.modes import UnknownModeError, available_modes
 
         problems: list[tuple[str, str]] = []
         known_scenarios = list(bundled_scenarios())
         bundled = known_scenarios if self.bundled is None else list(self.bundled)
-        # Building kinds have no error type of their own (scenario.generate raises KeyError).
-        unknown_kind = functools.partial(UnknownNameError, kind="building kind")
         checks: tuple[tuple[str, list[str], list[str], Callable[..., UnknownNameError]], ...] = (
             ("bundled", bundled, known_scenarios, UnknownScenarioError),
-            ("generated_kinds", self.generated_kinds, sorted(KINDS), unknown_kind),
+            ("generated_kinds", self.generated_kinds, sorted(KINDS), UnknownKindError),
             ("modes", self.modes, available_modes(), UnknownModeError),
             ("devices", self.devices, sorted(available_devices()), UnknownDeviceError),
         )

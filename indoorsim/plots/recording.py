@@ -39,7 +39,7 @@ from indoorsim.plots.style import (
     new_figure,
     save_figures,
 )
-from indoorsim.scenario.load import bundled_scenarios, load_scenario
+from indoorsim.scenario.load import bundled_scenarios, load_site
 from indoorsim.scenario.schema import ScenarioError
 
 if TYPE_CHECKING:
@@ -286,13 +286,11 @@ def _scenario_site(name: object) -> Site | None:
 
     Bundled scenarios are named as their files, so the manifest's name is the key.
     """
-    from indoorsim.world.site import Site
-
     bundled = bundled_scenarios()
     if not isinstance(name, str) or name not in bundled:
         return None
     try:
-        return Site(load_scenario(bundled[name]))
+        return load_site(name)
     except ScenarioError:
         return None
 

@@ -74,9 +74,9 @@ def test_contract_check_names_the_broken_rule():
 
 
 def test_unknown_estimator_lists_the_available_ones():
-    with pytest.raises(UnknownEstimatorError, match=r"available: .*pdr-basic"):
+    with pytest.raises(UnknownEstimatorError, match=r"valid estimators are: .*pdr-basic"):
         make("no-such-estimator")
-    with pytest.raises(UnknownEstimatorError, match="cannot load"):
+    with pytest.raises(UnknownEstimatorError, match="cannot load estimator"):
         make("no_such_module:Thing")
 
 

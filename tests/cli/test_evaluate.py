@@ -32,7 +32,7 @@ def test_evaluate_cli_writes_walks_and_fails_above_thresholds(tmp_path, capsys):
     assert "ae = " in capsys.readouterr().err
     assert main([*args, "--out", str(tmp_path / "x"), "--fail-above", "speed=1"]) == 2
     assert main([*args[:2], "nope", *args[3:], "--out", str(tmp_path / "y")]) == 2
-    assert "unknown estimator 'nope'; available:" in capsys.readouterr().err
+    assert "unknown estimator 'nope'; valid estimators are:" in capsys.readouterr().err
 
 
 def _install_plugin(root: Path) -> None:

@@ -17,7 +17,7 @@ import yaml
 from shapely.geometry import Point
 
 from indoorsim.scenario import Scenario, dump_scenario, load_scenario, parse_scenario
-from indoorsim.scenario.generate import KINDS, generate
+from indoorsim.scenario.generate import KINDS, UnknownKindError, generate
 from indoorsim.world.plan import FloorPlan
 
 CASES = [(kind, seed) for kind in sorted(KINDS) for seed in (0, 1)]
@@ -158,9 +158,8 @@ def test_a_kind_added_to_the_registry_is_built_by_generate(monkeypatch) -> None:
 
 
 def test_unknown_kind_lists_the_valid_ones() -> None:
-    with pytest.raises(
-        KeyError, match=r"valid kinds: basement, l_corridor, office, open_hall, u_corridor"
-    ):
+    valid = "basement, l_corridor, office, open_hall, u_corridor"
+    with pytest.raises(UnknownKindError, match=f"valid building kinds are: {valid}"):
         generate("castle")
 
 

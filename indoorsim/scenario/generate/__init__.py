@@ -79,11 +79,18 @@ from indoorsim.scenario.generate.draft import Size
 from indoorsim.scenario.generate.office import build_office
 from indoorsim.scenario.generate.open_hall import build_open_hall
 from indoorsim.scenario.schema import Scenario
+from indoorsim.util.errors import UnknownNameError
 
-__all__ = ["KINDS", "Builder", "generate"]
+__all__ = ["KINDS", "Builder", "UnknownKindError", "generate"]
 
 Builder = Callable[[Size | None, int], Scenario]
 """A kind's builder: ``(size or None, seed) -> Scenario``."""
+
+
+class UnknownKindError(UnknownNameError, KeyError):
+    """A building kind :data:`KINDS` does not hold."""
+
+    kind = "building kind"
 
 
 KINDS: dict[str, Builder] = {
@@ -112,7 +119,7 @@ def generate(kind: str, size: tuple[float, float] | None = None, seed: int = 0) 
         give an equal scenario.
 
     Raises:
-        KeyError: for an unknown kind (the message lists the valid ones).
+        UnknownKindError: for an unknown kind (also a ``KeyError``; it lists the valid ones).
         ValueError: for a size below the kind's minimum, or a negative seed.
 
     Example:
@@ -123,9 +130,7 @@ def generate(kind: str, size: tuple[float, float] | None = None, seed: int = 0) 
     try:
         builder = KINDS[kind]
     except KeyError:
-        raise KeyError(
-            f"unknown building kind {kind!r}; valid kinds: {', '.join(sorted(KINDS))}"
-        ) from None
+        raise UnknownKindError(kind, sorted(KINDS)) from None
     if seed < 0:
         raise ValueError(f"seed must be non-negative, got {seed}")
     return builder(size, seed)
