@@ -11,6 +11,7 @@
     indoorsim plot recording walks/main-1 trace.txt --out plots/
     indoorsim evaluate --estimator pdr-basic --scenario minimal_room --out results/
     indoorsim leaderboard --quick --out leaderboards/
+    indoorsim realism --out leaderboards/                 # simulated motion beside real phones
     indoorsim dataset --sites 20 --walks-per-site 8 --minutes 10 --seed 0 \\
         --workers 2 --out data/          # labelled Parquet shards on Dask (resumable)
     indoorsim train --data data/ --out checkpoints/io --epochs 15   # the learned-io network
@@ -18,7 +19,8 @@
 One module per command group: :mod:`~indoorsim.cli.scenarios`,
 :mod:`~indoorsim.cli.simulate` (``simulate``, ``survey``),
 :mod:`~indoorsim.cli.plot` (``plot site``, ``plot recording``),
-:mod:`~indoorsim.cli.evaluate` (``evaluate``, ``leaderboard``) and
+:mod:`~indoorsim.cli.evaluate` (``evaluate``, ``leaderboard``),
+:mod:`~indoorsim.cli.realism` and
 :mod:`~indoorsim.cli.dataset` (``dataset``, ``train``); what they share
 (argument types, name and folder checks, the progress spinner,
 :class:`~indoorsim.cli.args.CliError`) is in :mod:`~indoorsim.cli.args`. Each
@@ -49,6 +51,7 @@ from indoorsim.cli.args import CliError
 from indoorsim.cli.dataset import add_dataset, add_train
 from indoorsim.cli.evaluate import add_evaluate, add_leaderboard
 from indoorsim.cli.plot import add_plot
+from indoorsim.cli.realism import add_realism
 from indoorsim.cli.scenarios import add_scenarios
 from indoorsim.cli.simulate import add_simulate, add_survey
 from indoorsim.scenario.schema import ScenarioError
@@ -64,6 +67,7 @@ _COMMANDS: tuple[Callable[[Subparsers], None], ...] = (
     add_survey,
     add_evaluate,
     add_leaderboard,
+    add_realism,
     add_dataset,
     add_train,
     add_plot,

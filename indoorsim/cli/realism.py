@@ -1,0 +1,96 @@
+"""``indoorsim realism``: simulated phone motion measured beside real phones.
+
+Simulates walks in every carrying mode over bundled and generated sites and
+computes, with the same functions as on real logs, the statistics of
+:mod:`indoorsim.benchmark.realism`; writes ``realism.md`` (real range,
+simulated value, inside or outside, per statistic and mode), the CSVs and the
+overlay plot.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from indoorsim.cli.args import CliError, check_folder, device_profile, mode_schedule, seed_number
+
+if TYPE_CHECKING:
+    from indoorsim.cli.args import Subparsers
+
+__all__ = ["add_realism"]
+
+
+def add_realism(subparsers: Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "realism",
+        help="compare simulated phone motion with real recordings",
+        description="Simulate walks in every carrying mode over bundled and generated sites "
+        "and compare their motion statistics (shape, spread and spectra of |a|, gyro RMS, "
+        "heading jitter and drift) with those of real phone logs, by the same functions. "
+        "Writes realism.md, the CSVs and realism_motion.png.",
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("leaderboards"),
+        metavar="DIR",
+        help="default leaderboards/",
+    )
+    parser.add_argument(
+        "--realdata",
+        type=Path,
+        metavar="DIR",
+        help="measure the real logs in this folder instead of reading the committed table "
+        "of their statistics",
+    )
+    parser.add_argument(
+        "--refresh-reference",
+        action="store_true",
+        help="measure the real logs (--realdata, $INDOORSIM_REALDATA or ../shared/realdata) "
+        "and write their statistics over the committed table",
+    )
+    parser.add_argument(
+        "--seeds", type=seed_number, default=3, metavar="N", help="seeds per site and mode"
+    )
+    parser.add_argument(
+        "--mode",
+        action="append",
+        metavar="NAME",
+        help="only these carrying modes (repeatable; default: every modelled one)",
+    )
+    parser.add_argument("--device", default="nexus_5x", metavar="NAME", help="simulated phone")
+    parser.set_defaults(handler=_run_realism)
+
+
+def _run_realism(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
+    from indoorsim.benchmark.realism.reference import MODELLED_MODES
+    from indoorsim.benchmark.realism.report import RealismConfig, run_realism
+
+    check_folder(args.out)
+    if args.seeds < 1:
+        raise CliError("--seeds must be at least 1")
+    if args.realdata is not None and not args.realdata.is_dir():
+        raise CliError(f"--realdata {args.realdata}: no such folder")
+    modes = tuple(args.mode or MODELLED_MODES)
+    for mode in modes:
+        mode_schedule(mode, one_mode=True)
+    device_profile(args.device)
+    config = RealismConfig(modes=modes, seeds=tuple(range(args.seeds)), device=args.device)
+    with tqdm(desc="realism", disable=None, file=sys.stderr) as bar:
+        table = run_realism(
+            args.out,
+            config=config,
+            realdata=args.realdata,
+            refresh_reference=args.refresh_reference,
+            progress=lambda msg: (bar.set_postfix_str(msg), bar.update(1)),
+        )
+    judged = table.dropna(subset=["sites_inside"])
+    sites = len(config.bundled) + len(config.generated)
+    inside = int((judged["sites_inside"] == sites).sum())
+    print(f"{inside} of {len(judged)} statistics inside their real range on every site")
+    print(f"wrote {args.out}/realism.md")
+    return 0
