@@ -121,8 +121,8 @@ def quat_from_rotvec(vx, vy, vz):  # pragma: no cover - compiled
     sin(½θ)/θ is taken as its series ½ − θ²/48 below θ = 1e-8 (avoiding 0/0).
     Returns (w, x, y, z). (The fused-sensor filter's gyro increment forms the
     same quaternion from the rate and the interval, rounding differently;
-    scipy's ``Rotation.from_rotvec``, used by the carry modes, also differs in
-    the last bits.)
+    scipy's ``Rotation.from_rotvec``, which the carry modes use, takes a longer
+    series below θ = 1e-3, so the two differ in the last bits there.)
     """
     angle = math.sqrt(vx * vx + vy * vy + vz * vz)
     s = math.sin(0.5 * angle) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
