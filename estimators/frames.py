@@ -40,10 +40,7 @@ def to_world(rotation: ArrayLike, vectors: ArrayLike) -> NDArray[np.float64]:
     The quaternions are normalised first (held or logged values drift from unit
     norm); an all-zero quaternion counts as the identity.
     """
-    q = np.asarray(rotation, dtype=float)
-    norm = np.linalg.norm(q, axis=-1, keepdims=True)
-    unit = np.where(norm > _TINY, q / np.where(norm > _TINY, norm, 1.0), [1.0, 0.0, 0.0, 0.0])
-    return quaternion.rotate(unit, vectors)
+    return quaternion.rotate(quaternion.normalise(rotation, min_norm=_TINY), vectors)
 
 
 def heading_from_rotation(

@@ -1,9 +1,10 @@
-"""Pedestrian dead reckoning components: step detection, step length, heading.
+"""Pedestrian dead reckoning components: step detection, step length, heading, gait DR.
 
 Streaming components: each keeps its state across observation windows and is
 vectorised inside one, so a pipeline feeds it window after window.
 """
 
+from indoorsim.estimators.pdr.attitude import QuaternionAttitude, dcm, euler_angles
 from indoorsim.estimators.pdr.filters import (
     HeadingBKF,
     HeadingKF,
@@ -15,11 +16,6 @@ from indoorsim.estimators.pdr.gait import (
     PENDULUM_LENGTH_M,
     GaitDeadReckoning,
     GaitStep,
-    QuaternionAttitude,
-    StationaryDetector,
-    VerticalZuptEKF,
-    dcm,
-    euler_angles,
     pendulum_step_length,
     vertical_acceleration,
 )
@@ -35,6 +31,7 @@ from indoorsim.estimators.pdr.length import (
 )
 from indoorsim.estimators.pdr.steps import STANDARD_GRAVITY, PeakStepDetector, Step
 from indoorsim.estimators.pdr.wavelet import StreamingDenoiser, denoise
+from indoorsim.estimators.pdr.zupt import StationaryDetector, VerticalZuptEKF
 
 __all__ = [
     "MODELS",

@@ -1,15 +1,12 @@
 """Gait-based dead reckoning (Chen2022 "The gait-based DR", Eq. 1–12).
 
-Chen2022 builds its DR from four parts, each a component here:
+Chen2022 builds its DR from four parts:
 
 * **Stationary detection and an EKF on the vertical channel** (Eq. 1–3, ZUPT):
-  :class:`StationaryDetector` and :class:`VerticalZuptEKF`. The paper's
-  9-state error filter (vertical position and velocity, three attitude angles
-  and four biases) is only cited (its F, Q, H, R are "in Chen et al. 2018b").
-  This module implements a documented *reduction*: a 3-state Kalman filter on
-  the vertical channel (position, velocity, accelerometer bias) and, for the
-  attitude, the gyro biases re-estimated whenever the phone is still (a zero
-  angular-rate update) in :class:`QuaternionAttitude`.
+  :class:`~indoorsim.estimators.pdr.zupt.StationaryDetector` and
+  :class:`~indoorsim.estimators.pdr.zupt.VerticalZuptEKF` (module
+  :mod:`~indoorsim.estimators.pdr.zupt`, with the reduction of the paper's
+  9-state filter that it implements).
 * **Step length** by the inverted pendulum: vertical acceleration on gravity
   (Eq. 4, :func:`vertical_acceleration`), the vertical excursion S_VD between
   two adjacent troughs by double integration (Eq. 5, through the EKF), and
@@ -17,8 +14,9 @@ Chen2022 builds its DR from four parts, each a component here:
 * **Step counting**: one step between two adjacent troughs of the vertical
   acceleration (Eq. 7; garbled in the text, reading below).
 * **Heading** from the quaternion attitude: update by gyro increments (Eq. 8),
-  direction cosine matrix (Eq. 9, :func:`dcm`), Euler angles (Eq. 10–12,
-  :func:`euler_angles`).
+  direction cosine matrix (Eq. 9), Euler angles (Eq. 10–12):
+  :class:`~indoorsim.estimators.pdr.attitude.QuaternionAttitude` (module
+  :mod:`~indoorsim.estimators.pdr.attitude`, with its readings of the paper).
 
 :class:`GaitDeadReckoning` runs them together on streamed samples and returns
 :class:`GaitStep` records.
@@ -62,42 +60,25 @@ Readings taken where the text is wrong or silent (PAPER_NOTES, Chen2022 item 1�
   the longest step time before. Otherwise every bout would lose a step
   (the first and last steps of a bout, a third of a full step long, have
   almost no bounce and are missed anyway: 2–4 % of a simulated walk).
-* **Eq. 2**, the EKF's state equation δX_k = F_{k−1} δX_{k−1} + ω_{k−1}, is
-  lost in the extraction; Eq. 3 is the measurement equation. Both are used
-  with the matrices of :class:`VerticalZuptEKF`.
-* **Eq. 8** has sign ambiguities in ΔΘ and calls I a 3 × 3 identity (it is
-  4 × 4). Implemented as the standard kinematics it stands for, q ← q ⊗
-  exp(½Δθ) with the body-frame increment Δθ = (ω̄ − b_g)·Δt (ω̄ the mean of
-  two consecutive gyro samples, b_g the gyro bias learned while still); its
-  matrix form is the paper's [I cos(Δθ/2) + ΔΘ sin(Δθ/2)/Δθ] q.
-* **Eq. 10–12** use arctan; here atan2, so every quadrant is kept.
-* **Heading in every carrying mode.** Eq. 12's yaw is the heading of the
-  phone's x axis. The walking heading is the start heading plus the change
-  of that yaw since the start; a phone whose x axis stands near vertical (a
-  phone at the ear in landscape, say) would make it ill-defined, so the axis
-  whose heading is followed is the phone axis most nearly horizontal,
-  switched (with the heading kept continuous) when it comes within 30° of
-  the vertical. Being a function of the attitude and not an integral of a
-  yaw rate, this heading does not creep when the phone's tilt circulates (a
-  pocket's thigh swing), which ∫ω·ĝ dt does
-  (:class:`~indoorsim.estimators.pdr.heading.GyroHeading`).
 
-Frames: phone frame as Android's sensor frame; the attitude quaternion is
-world←phone, scalar first (w, x, y, z) as :mod:`indoorsim.util.quaternion`, with a
-local world frame whose z is up and whose yaw origin is arbitrary — only
-changes of yaw are used.
+Frames: phone frame as Android's sensor frame (DESIGN §2); headings are
+building-frame, counter-clockwise from +x.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.signal import butter, sosfilt, sosfilt_zi
+
+from indoorsim.estimators.pdr._checks import non_negative, positive
+
+# dcm and euler_angles are re-exported for the path they had before the split.
+from indoorsim.estimators.pdr.attitude import QuaternionAttitude, dcm, euler_angles
+from indoorsim.estimators.pdr.zupt import StationaryDetector, VerticalZuptEKF
 
 __all__ = [
     "PENDULUM_LENGTH_M",
@@ -123,23 +104,6 @@ _MIN_GRAVITY = 1.0
 # Samples used to estimate the sampling rate when none is given: a fixed
 # count, so that the estimate does not depend on how the samples are chunked.
 _RATE_SAMPLES = 16
-# The heading follows another phone axis once its axis comes within this of
-# the vertical (horizontal projection below sin 30° = 0.5).
-_MIN_HORIZONTAL = 0.5
-# Still gyro samples held back for the bias guard; beyond this many (a guard
-# longer than 4096 samples) the oldest is used early.
-_BIAS_FIFO = 4096
-
-
-def _positive(name: str, value: float) -> None:
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-
-
-def _non_negative(name: str, value: float) -> None:
-    if not (np.isfinite(value) and value >= 0):
-        raise ValueError(f"{name} must be a finite number ≥ 0, got {value!r}")
-
 
 # ------------------------------------------------------------------ closed forms
 
@@ -178,696 +142,11 @@ def pendulum_step_length(s_vd: ArrayLike, pendulum_length: float) -> NDArray[np.
     >>> round(float(pendulum_step_length(0.05, 1.25)), 12)
     0.7
     """
-    _positive("pendulum_length", pendulum_length)
+    positive("pendulum_length", pendulum_length)
     s = np.clip(np.asarray(s_vd, dtype=float), 0.0, pendulum_length)
     L = pendulum_length
     # Eq. 6: D = 2√(L² − (L − S_VD)²)
     return 2.0 * np.sqrt(L * L - (L - s) ** 2)
-
-
-def dcm(q: ArrayLike) -> NDArray[np.float64]:
-    """Direction cosine matrices C_b^n (world←phone) of unit quaternions (Chen2022 Eq. 9).
-
-    The paper's q = [q1 q2 q3 q4] has the scalar last; here (w, x, y, z)
-    scalar first, so its q4 is w and q1..q3 are x, y, z.
-
-    Args:
-        q: (..., 4) unit quaternions, scalar first.
-
-    Returns:
-        (..., 3, 3) rotation matrices; column j is phone axis j in the world.
-
-    >>> dcm([np.cos(np.pi / 4), 0.0, 0.0, np.sin(np.pi / 4)]).round(6)[:2, :2].tolist()
-    [[0.0, -1.0], [1.0, 0.0]]
-    """
-    w, x, y, z = np.moveaxis(np.asarray(q, dtype=float), -1, 0)
-    # Eq. 9, with q1, q2, q3, q4 = x, y, z, w
-    rows = [
-        [w * w + x * x - y * y - z * z, 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), w * w - x * x + y * y - z * z, 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), w * w - x * x - y * y + z * z],
-    ]
-    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
-
-
-def euler_angles(
-    C: ArrayLike,
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """Pitch ϑ, roll φ and yaw ψ of direction cosine matrices (Chen2022 Eq. 10–12), rad.
-
-    The z-y-x Euler angles of C = R_z(ψ) R_y(ϑ) R_x(φ), with atan2 for the
-    paper's arctan. Yaw is the heading of the phone's x axis, undefined when
-    that axis is vertical (|ϑ| = 90°).
-
-    Args:
-        C: (..., 3, 3) world←phone rotation matrices.
-
-    Returns:
-        (pitch, roll, yaw), each (...).
-    """
-    C = np.asarray(C, dtype=float)
-    # Eq. 10: ϑ = arctan(−C31 / √(C32² + C33²))
-    pitch = np.arctan2(-C[..., 2, 0], np.hypot(C[..., 2, 1], C[..., 2, 2]))
-    # Eq. 11: φ = arctan(C32 / C33)
-    roll = np.arctan2(C[..., 2, 1], C[..., 2, 2])
-    # Eq. 12: ψ = arctan(C21 / C11)
-    yaw = np.arctan2(C[..., 1, 0], C[..., 0, 0])
-    return pitch, roll, yaw
-
-
-# ------------------------------------------------------------------ stationary detection
-
-
-@numba.njit(cache=True)
-def _window_stats(
-    t, acc_norm, gyro_norm, first, window_s, t_start, acc_std, gyro_rms
-):  # pragma: no cover - compiled
-    """Std of |a| and RMS of |ω| over the samples in (t_k − window_s, t_k], for k ≥ first.
-
-    Windows not yet covering ``window_s`` of data since ``t_start`` get inf.
-    """
-    j0 = 0
-    for k in range(first, t.size):
-        while t[k] - t[j0] >= window_s:
-            j0 += 1
-        n = k - j0 + 1
-        if n < 3 or t[k] - t_start < window_s * (1.0 - 1e-9) - 1e-12:
-            acc_std[k - first] = np.inf
-            gyro_rms[k - first] = np.inf
-            continue
-        mean = 0.0
-        for j in range(j0, k + 1):
-            mean += acc_norm[j]
-        mean /= n
-        var = 0.0
-        energy = 0.0
-        for j in range(j0, k + 1):
-            d = acc_norm[j] - mean
-            var += d * d
-            energy += gyro_norm[j] * gyro_norm[j]
-        acc_std[k - first] = math.sqrt(var / n)
-        gyro_rms[k - first] = math.sqrt(energy / n)
-
-
-@dataclass(kw_only=True)
-class StationaryDetector:
-    """Streaming still-phone detector: quiet accelerometer magnitude and gyro over a window.
-
-    Sample k is stationary when, over the trailing window (t_k − ``window_s``, t_k],
-
-        std(|a|) < ``accel_std_mps2``   and   RMS(|ω|) < ``gyro_rms_rad_s``,
-
-    the acceleration-moving-variance and angular-rate-energy detectors of
-    Skog et al., "Zero-velocity detection — an algorithm evaluation", IEEE
-    TBME 57(11), 2010, combined by "and". Without a gyro only the first
-    test is made. The window trails, so a walk is "moving" from its first
-    jolt and "still" again only a full window after its last: the ZUPT never
-    lands on a moving phone. Samples before the first full window are not
-    stationary.
-
-    Defaults, for a phone in the hand or a pocket rather than on a foot: the
-    window is about one step (0.5 s), so a walking window always holds a
-    step's swing; the thresholds sit between a hand holding still — tremor of
-    ≈ 0.06 m/s² RMS and 0.03° at 8–12 Hz (≈ 0.03 rad/s), Android CDD noise
-    floors far below — and walking, whose |a| swings 2–4 m/s² peak to peak
-    (std ≳ 0.7 m/s²) and whose trunk yaw oscillation alone turns a handheld
-    phone at ≳ 0.1 rad/s (REALISM §5–6).
-
-    Attributes:
-        window_s: length of the trailing window, s.
-        accel_std_mps2: threshold on the standard deviation of |a|, m/s².
-        gyro_rms_rad_s: threshold on the RMS of |ω|, rad/s.
-    """
-
-    window_s: float = 0.5
-    accel_std_mps2: float = 0.2
-    gyro_rms_rad_s: float = 0.1
-
-    # Samples within the window of the last one (t, |a|, |ω|), and the first time.
-    _tail: NDArray[np.float64] = field(
-        default_factory=lambda: np.empty((0, 3)), init=False, repr=False, compare=False
-    )
-    _t_start: float | None = field(default=None, init=False, repr=False, compare=False)
-
-    def __post_init__(self) -> None:
-        _positive("window_s", self.window_s)
-        _positive("accel_std_mps2", self.accel_std_mps2)
-        _positive("gyro_rms_rad_s", self.gyro_rms_rad_s)
-
-    def reset(self) -> None:
-        """Forget the window: the next sample starts a new recording."""
-        self._tail = np.empty((0, 3))
-        self._t_start = None
-
-    def update(self, t: ArrayLike, accel: ArrayLike, gyro: ArrayLike | None) -> NDArray[np.bool_]:
-        """Classify the next samples.
-
-        Args:
-            t: (N,) sample times, s, increasing and after those of earlier calls.
-            accel: (N, 3) specific force, m/s².
-            gyro: (N, 3) angular rate, rad/s, or None (accelerometer test only).
-
-        Returns:
-            (N,) True where the phone is still.
-        """
-        t = np.asarray(t, dtype=float).reshape(-1)
-        acc_norm = np.linalg.norm(np.asarray(accel, dtype=float).reshape(-1, 3), axis=1)
-        gyro_norm = (
-            np.zeros_like(t)
-            if gyro is None
-            else np.linalg.norm(np.asarray(gyro, dtype=float).reshape(-1, 3), axis=1)
-        )
-        if not len(t):
-            return np.zeros(0, dtype=bool)
-        if self._t_start is None:
-            self._t_start = float(t[0])
-        buf = np.concatenate([self._tail, np.column_stack([t, acc_norm, gyro_norm])])
-        first = len(self._tail)
-        acc_std = np.empty(len(t))
-        gyro_rms = np.empty(len(t))
-        _window_stats(
-            buf[:, 0], buf[:, 1], buf[:, 2], first, self.window_s, self._t_start, acc_std, gyro_rms
-        )
-        self._tail = buf[buf[:, 0] > t[-1] - self.window_s]
-        return (acc_std < self.accel_std_mps2) & (gyro_rms < self.gyro_rms_rad_s)
-
-
-# ------------------------------------------------------------------ vertical EKF
-# The recursions cannot be vectorised over time; compiled, a sample costs well
-# under a microsecond. Matrix products are written out as loops: numba's
-# BLAS-backed @ takes seconds to compile for 3 × 3 matrices.
-
-
-@numba.njit(cache=True)
-def _scalar_update(x, P, h, z, r):  # pragma: no cover - compiled
-    """Kalman update with one scalar measurement z = h·x + v, v ~ N(0, r), Joseph form."""
-    n = x.size
-    ph = np.zeros(n)
-    for i in range(n):
-        for j in range(n):
-            ph[i] += P[i, j] * h[j]
-    s = r
-    innovation = z
-    for i in range(n):
-        s += h[i] * ph[i]
-        innovation -= h[i] * x[i]
-    # Eq. 3 update: K = P⁻hᵀ/S, x = x⁻ + K(z − h x⁻), P = (I − K h) P⁻ (I − K h)ᵀ + K r Kᵀ
-    K = ph / s
-    for i in range(n):
-        x[i] += K[i] * innovation
-    A = np.eye(n)
-    for i in range(n):
-        for j in range(n):
-            A[i, j] -= K[i] * h[j]
-    AP = np.zeros((n, n))
-    for i in range(n):
-        for j in range(n):
-            for m in range(n):
-                AP[i, j] += A[i, m] * P[m, j]
-    for i in range(n):
-        for j in range(n):
-            acc = K[i] * r * K[j]
-            for m in range(n):
-                acc += AP[i, m] * A[j, m]
-            P[i, j] = acc
-    for i in range(n):
-        for j in range(i + 1, n):
-            P[i, j] = P[j, i] = 0.5 * (P[i, j] + P[j, i])
-
-
-@numba.njit(cache=True)
-def _ekf_run(t, a, still, last, x, P, q_a, q_b, r_zupt, r_level, out):  # pragma: no cover
-    """Predict with each sample's vertical acceleration, then the ZUPT and level updates.
-
-    ``last`` = [t, a] of the previous sample (NaN time before the first) is
-    updated in place, as are x and P; out[k] receives the posterior state.
-    """
-    h_pos = np.array([1.0, 0.0, 0.0])
-    h_vel = np.array([0.0, 1.0, 0.0])
-    for k in range(t.size):
-        dt = t[k] - last[0] if np.isfinite(last[0]) else 0.0
-        if dt > 0.0:
-            acc = 0.5 * (last[1] + a[k]) - x[2]
-            dt2 = dt * dt
-            # Eq. 2 (prediction): x⁻ = F x + B ā with the bias-corrected mean acceleration
-            x[0] += x[1] * dt + 0.5 * acc * dt2
-            x[1] += acc * dt
-            F = np.array([[1.0, dt, -0.5 * dt2], [0.0, 1.0, -dt], [0.0, 0.0, 1.0]])
-            FP = np.zeros((3, 3))
-            for i in range(3):
-                for j in range(3):
-                    for m in range(3):
-                        FP[i, j] += F[i, m] * P[m, j]
-            # P⁻ = F P Fᵀ + Q
-            for i in range(3):
-                for j in range(3):
-                    acc_ij = 0.0
-                    for m in range(3):
-                        acc_ij += FP[i, m] * F[j, m]
-                    P[i, j] = acc_ij
-            P[0, 0] += q_a * dt2 * dt / 3.0
-            P[0, 1] += q_a * dt2 / 2.0
-            P[1, 0] += q_a * dt2 / 2.0
-            P[1, 1] += q_a * dt
-            P[2, 2] += q_b * dt
-        if still[k]:
-            _scalar_update(x, P, h_vel, 0.0, r_zupt)
-        if dt > 0.0 and r_level > 0.0:
-            _scalar_update(x, P, h_pos, 0.0, r_level / dt)
-        last[0] = t[k]
-        last[1] = a[k]
-        for i in range(3):
-            out[k, i] = x[i]
-
-
-@dataclass(kw_only=True)
-class VerticalZuptEKF:
-    """Kalman filter of the vertical channel with zero-velocity and level pseudo-measurements.
-
-    Our documented reduction of Chen2022's 9-state EKF (Eq. 1–3), whose
-    matrices the paper only cites: the vertical states only, with the
-    accelerometer's vertical bias in place of the paper's "bias of the
-    vertical velocity". Linear, so the EKF is a plain Kalman filter.
-
-    State x = [p, v, b]ᵀ: vertical position about the walk's level (m),
-    vertical velocity (m/s), bias of the vertical acceleration (m/s²). Per
-    sample k, with Δt = t_k − t_{k−1} and the mean measured acceleration
-    ā = ½(a_{k−1} + a_k):
-
-        x_k = F x_{k−1} + B ā + w,   F = [[1, Δt, −½Δt²], [0, 1, −Δt], [0, 0, 1]],
-                                      B = [½Δt², Δt, 0]ᵀ,                  (Eq. 2)
-        Q = q_a·[[Δt³/3, Δt²/2, 0], [Δt²/2, Δt, 0], [0, 0, 0]] + diag(0, 0, q_b·Δt),
-
-    the white-acceleration model (q_a: PSD of what the measured a_v gets
-    wrong — noise, tilt leakage of horizontal acceleration) with a
-    random-walk bias (q_b); the bias's coupling into Q's p and v terms is
-    dropped, as usual for a slow bias. Measurements (Eq. 3), scalar:
-
-    * **ZUPT** while the phone is still: z = 0 = v + ν, H = [0, 1, 0],
-      R = ``zupt_sigma_mps``². Through v the bias becomes observable, so a
-      still phone's bias is estimated and its position held.
-    * **Level** at every sample: z = 0 = p + ν, H = [1, 0, 0], R = r_h/Δt,
-      a pseudo-measurement that the phone's height on a level floor stays at
-      its mean. Chosen over "zero velocity at troughs" because the detected
-      trough of the low-passed a_v lags the top of the bounce by ≈ 0.15 s —
-      a quarter of a step, where the vertical speed is near its largest —
-      and over a per-step zero-mean-velocity constraint
-      because that needs the step detection (with its latency) inside the
-      filter; the level anchor needs neither. With r_h = q_a/(2π·f_c)⁴ the
-      filter leaves the position a second-order high-pass of the integrated
-      acceleration with corner f_c = ``level_bandwidth_hz``: drift slower
-      than f_c is bounded, the bounce at 1.5–2.5 steps/s passes. Its gain
-      there is 1 − k₁Δt/2 rather than the continuous filter's 1, where
-      k₁ = 2√2·π·f_c: 0.989 at 100 Hz, 0.978 at 50 Hz for f_c = 0.25 Hz
-      (a scale that :meth:`GaitDeadReckoning.calibrate` absorbs). It
-      would fight a real climb (stairs, ramps); Chen2022's sites are level.
-
-    Q and R are in continuous-time units (per second), so the filter hardly
-    depends on the sampling rate (but for that gain).
-
-    Attributes:
-        accel_psd: q_a, (m/s²)²/Hz: 0.1 m/s²/√Hz, mostly what a tilt error
-            of a degree or two leaks from walking's horizontal accelerations
-            (MEMS noise, ≤ 0.002 m/s²/√Hz, is far below).
-        bias_psd: q_b, (m/s²)²/s: the bias wanders 0.01 m/s² in 100 s.
-        zupt_sigma_mps: standard deviation of the zero-velocity measurement,
-            m/s: a hand holding still moves at millimetres per second.
-        level_bandwidth_hz: f_c of the level pseudo-measurement, a tenth of
-            the slowest walking cadence; None turns it off.
-        P0: (3, 3) covariance after :meth:`reset`: 1 cm, 1 cm/s and 0.1 m/s²
-            (an uncalibrated MEMS bias and the fused gravity's nominal |g|).
-    """
-
-    accel_psd: float = 1e-2
-    bias_psd: float = 1e-6
-    zupt_sigma_mps: float = 0.01
-    level_bandwidth_hz: float | None = 0.25
-    P0: NDArray[np.float64] = field(default_factory=lambda: np.diag([1e-4, 1e-4, 1e-2]))
-
-    x: NDArray[np.float64] = field(init=False, repr=False, compare=False)
-    P: NDArray[np.float64] = field(init=False, repr=False, compare=False)
-    # The previous sample's time and acceleration (time NaN before the first).
-    _last: NDArray[np.float64] = field(init=False, repr=False, compare=False)
-
-    def __post_init__(self) -> None:
-        _positive("accel_psd", self.accel_psd)
-        _non_negative("bias_psd", self.bias_psd)
-        _positive("zupt_sigma_mps", self.zupt_sigma_mps)
-        if self.level_bandwidth_hz is not None:
-            _positive("level_bandwidth_hz", self.level_bandwidth_hz)
-        P0 = np.array(self.P0, dtype=float)
-        if P0.shape != (3, 3) or not np.allclose(P0, P0.T) or np.any(np.linalg.eigvalsh(P0) < 0):
-            raise ValueError(f"P0 must be a symmetric positive semi-definite 3×3 matrix, got {P0}")
-        self.P0 = P0
-        self.reset()
-
-    @property
-    def level_psd(self) -> float:
-        """r_h of the level pseudo-measurement, m²·s (0 when it is off)."""
-        if self.level_bandwidth_hz is None:
-            return 0.0
-        return self.accel_psd / (2.0 * np.pi * self.level_bandwidth_hz) ** 4
-
-    def reset(self) -> None:
-        """Start again at x = 0 with covariance ``P0``."""
-        self.x = np.zeros(3)
-        self.P = self.P0.copy()
-        self._last = np.array([np.nan, 0.0])
-
-    def filter(self, t: ArrayLike, a: ArrayLike, stationary: ArrayLike) -> NDArray[np.float64]:
-        """Run the filter over the next samples.
-
-        Args:
-            t: (N,) sample times, s, increasing and after those of earlier calls.
-            a: (N,) vertical acceleration a_v (Eq. 4), m/s².
-            stationary: (N,) True where the phone is still (ZUPT).
-
-        Returns:
-            (N, 3) posterior states [p, v, b] at ``t``; ``x`` and ``P`` hold the last.
-        """
-        t = np.asarray(t, dtype=float).reshape(-1)
-        a = np.asarray(a, dtype=float).reshape(-1)
-        still = np.asarray(stationary, dtype=bool).reshape(-1)
-        if not (len(t) == len(a) == len(still)):
-            raise ValueError(f"{len(t)} times, {len(a)} accelerations, {len(still)} flags")
-        out = np.empty((len(t), 3))
-        _ekf_run(
-            t,
-            a,
-            still,
-            self._last,
-            self.x,
-            self.P,
-            self.accel_psd,
-            self.bias_psd,
-            self.zupt_sigma_mps**2,
-            self.level_psd,
-            out,
-        )
-        return out
-
-
-# ------------------------------------------------------------------ attitude
-
-
-@numba.njit(cache=True)
-def _quat_mul(a, b):  # pragma: no cover - compiled
-    """Hamilton product a ⊗ b, scalar first."""
-    return np.array(
-        [
-            a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
-            a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
-            a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
-            a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
-        ]
-    )
-
-
-@numba.njit(cache=True)
-def _set_quat(dst, src):  # pragma: no cover - compiled
-    """dst[:] = src, written out (numba's slice assignment is slow to compile)."""
-    for i in range(4):
-        dst[i] = src[i]
-
-
-@numba.njit(cache=True)
-def _rotvec_quat(v):  # pragma: no cover - compiled
-    """exp(½v): the unit quaternion of the rotation vector v."""
-    angle = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-    # sin(θ/2)/θ → ½ as θ → 0 (its series), avoiding 0/0.
-    s = math.sin(0.5 * angle) / angle if angle > 1e-8 else 0.5 - angle * angle / 48.0
-    return np.array([math.cos(0.5 * angle), s * v[0], s * v[1], s * v[2]])
-
-
-@numba.njit(cache=True)
-def _dcm(q, C):  # pragma: no cover - compiled
-    """Eq. 9 into C (scalar-first q)."""
-    w, x, y, z = q[0], q[1], q[2], q[3]
-    C[0, 0] = w * w + x * x - y * y - z * z
-    C[0, 1] = 2.0 * (x * y - z * w)
-    C[0, 2] = 2.0 * (x * z + y * w)
-    C[1, 0] = 2.0 * (x * y + z * w)
-    C[1, 1] = w * w - x * x + y * y - z * z
-    C[1, 2] = 2.0 * (y * z - x * w)
-    C[2, 0] = 2.0 * (x * z - y * w)
-    C[2, 1] = 2.0 * (y * z + x * w)
-    C[2, 2] = w * w - x * x - y * y + z * z
-
-
-@numba.njit(cache=True)
-def _attitude_run(
-    t,
-    gyro,
-    up,
-    still,
-    q,
-    bias,
-    state,
-    fifo_t,
-    fifo_w,
-    tilt_gain_rate,
-    bias_rate,
-    guard_s,
-    out_q,
-    out_yaw,
-):  # pragma: no cover - compiled
-    """Propagate the attitude through the samples; fill quaternions and relative yaws.
-
-    ``state`` = [t_prev, ω_prev (3), axis, yaw_prev, relative yaw, bias sample
-    count, FIFO head, FIFO length] carries across calls (t_prev NaN before the
-    first sample), as do q, bias and the FIFO of still samples (t; ω, Δt)
-    waiting for ``guard_s`` of stillness after them.
-    """
-    cap = fifo_t.size
-    C = np.empty((3, 3))
-    for k in range(t.size):
-        dt = t[k] - state[0] if np.isfinite(state[0]) else 0.0
-        if np.isfinite(state[0]):
-            # Eq. 8: q ← q ⊗ exp(½Δθ), Δθ = ω̄Δt with the bias-corrected mean rate
-            dtheta = np.empty(3)
-            for i in range(3):
-                dtheta[i] = (0.5 * (state[1 + i] + gyro[k, i]) - bias[i]) * dt
-            _set_quat(q, _quat_mul(q, _rotvec_quat(dtheta)))
-            if tilt_gain_rate > 0.0:
-                # Measured up in the world; turning it toward +z about the
-                # horizontal axis u × ẑ corrects roll and pitch, not yaw.
-                _dcm(q, C)
-                u = np.zeros(3)
-                for i in range(3):
-                    for j in range(3):
-                        u[i] += C[i, j] * up[k, j]
-                norm = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
-                if norm > 0.0:
-                    ex, ey = u[1] / norm, -u[0] / norm
-                    angle = math.atan2(math.sqrt(ex * ex + ey * ey), u[2] / norm)
-                    gain = min(1.0, tilt_gain_rate * dt)
-                    sin_e = math.sqrt(ex * ex + ey * ey)
-                    if sin_e > 0.0:
-                        scale = gain * angle / sin_e
-                        tilt = _rotvec_quat(np.array([ex * scale, ey * scale, 0.0]))
-                        _set_quat(q, _quat_mul(tilt, q))
-            n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
-            for i in range(4):
-                q[i] /= n
-        if bias_rate > 0.0:
-            if not still[k]:
-                state[10] = 0.0  # the still samples just before motion may be its start
-            else:
-                if state[10] == cap:  # full: use the oldest now
-                    _bias_step(bias, state, fifo_w[int(state[9])], bias_rate)
-                    state[9] = (state[9] + 1) % cap
-                    state[10] -= 1
-                j = int((state[9] + state[10]) % cap)
-                fifo_t[j] = t[k]
-                for i in range(3):
-                    fifo_w[j, i] = gyro[k, i]
-                fifo_w[j, 3] = dt
-                state[10] += 1
-            while state[10] > 0 and fifo_t[int(state[9])] <= t[k] - guard_s:
-                _bias_step(bias, state, fifo_w[int(state[9])], bias_rate)
-                state[9] = (state[9] + 1) % cap
-                state[10] -= 1
-        _dcm(q, C)
-        axis = int(state[5])
-        if not np.isfinite(state[0]) or math.hypot(C[0, axis], C[1, axis]) < _MIN_HORIZONTAL:
-            if np.isfinite(state[0]):
-                # Last increment on the old axis, then follow the most horizontal one.
-                yaw = math.atan2(C[1, axis], C[0, axis])
-                state[7] += (yaw - state[6] + math.pi) % (2.0 * math.pi) - math.pi
-            best, best_h = 0, -1.0
-            for j in range(3):
-                h = math.hypot(C[0, j], C[1, j])
-                if h > best_h:
-                    best, best_h = j, h
-            state[5] = best
-            state[6] = math.atan2(C[1, best], C[0, best])
-        else:
-            # Eq. 12 for the followed axis: ψ = atan2(C[1, j], C[0, j])
-            yaw = math.atan2(C[1, axis], C[0, axis])
-            state[7] += (yaw - state[6] + math.pi) % (2.0 * math.pi) - math.pi
-            state[6] = yaw
-        state[0] = t[k]
-        for i in range(3):
-            state[1 + i] = gyro[k, i]
-        for i in range(4):
-            out_q[k, i] = q[i]
-        out_yaw[k] = state[7]
-
-
-@numba.njit(cache=True)
-def _bias_step(bias, state, sample, bias_rate):  # pragma: no cover - compiled
-    """Zero angular-rate update: a still phone's gyro reads its bias.
-
-    A fading-memory mean: the plain mean of the first samples, then an
-    exponential one with weight Δt/τ (``sample`` = [ω (3), Δt]).
-    """
-    state[8] += 1.0
-    gain = max(1.0 / state[8], bias_rate * sample[3])
-    for i in range(3):
-        bias[i] += (sample[i] - bias[i]) * gain
-
-
-def _level_quaternion(up: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Attitude with roll and pitch from the phone-frame up vector, yaw 0 (Eq. 10–11 inverted).
-
-    With C = R_y(ϑ) R_x(φ), the third row of C is ûᵀ, so ϑ = atan2(−u_x, √(u_y² + u_z²)),
-    φ = atan2(u_y, u_z), and q = q_y(ϑ) ⊗ q_x(φ).
-    """
-    u = up / np.linalg.norm(up)
-    pitch = math.atan2(-u[0], math.hypot(u[1], u[2]))
-    roll = math.atan2(u[1], u[2])
-    q_pitch = np.array([math.cos(pitch / 2), 0.0, math.sin(pitch / 2), 0.0])
-    q_roll = np.array([math.cos(roll / 2), math.sin(roll / 2), 0.0, 0.0])
-    return _quat_mul(q_pitch, q_roll)
-
-
-@dataclass(kw_only=True)
-class QuaternionAttitude:
-    """Streaming gyro attitude and relative heading (Chen2022 Eq. 8–12).
-
-    At the first sample, roll and pitch come from gravity (Eq. 10–11
-    inverted), yaw is 0 in a local world frame. Each later sample
-    propagates the quaternion by the gyro increment (Eq. 8, standard
-    kinematics), then optionally:
-
-    * **tilt alignment** (complementary): the attitude is turned by a
-      fraction Δt/``tilt_time_constant_s`` of the angle between its "up" and
-      the measured one, about a horizontal world axis — so roll and pitch do
-      not drift with the gyro bias, while yaw is left to the gyro. The slow
-      constant passes the fast swing of a dangling or pocketed phone to the
-      gyro and only pulls the mean tilt.
-    * **gyro bias** (zero angular-rate update; our reduction of the paper's
-      attitude-bias states ε_roll, ε_pitch, ε_yaw): while the phone is still,
-      the bias is the fading-memory mean of the gyro over the last
-      ``gyro_bias_time_constant_s``, and it is subtracted from every rate.
-      Walks start standing, so a phone's turn-on bias (0.3°/s for the
-      Nexus 5X profile: 20° over a minute) is gone by the first step. A
-      still sample counts only once ``gyro_bias_guard_s`` of stillness
-      has followed it: gait initiation turns the trunk gently for half a
-      second or more before the detector sees motion, and that turn must not
-      become bias.
-
-    The relative yaw is the accumulated change of Eq. 12's yaw of the
-    followed phone axis (module docstring): exactly the rotation about the
-    vertical for a phone turning at any fixed tilt.
-
-    Attributes:
-        tilt_time_constant_s: time constant of the tilt alignment, s; None turns it off.
-        gyro_bias_time_constant_s: memory of the still-phone gyro-bias mean,
-            s; None turns bias estimation off.
-        gyro_bias_guard_s: stillness needed after a sample before it counts
-            toward the bias, s.
-    """
-
-    tilt_time_constant_s: float | None = 10.0
-    gyro_bias_time_constant_s: float | None = 10.0
-    gyro_bias_guard_s: float = 1.0
-
-    q: NDArray[np.float64] = field(init=False, repr=False, compare=False)
-    bias: NDArray[np.float64] = field(init=False, repr=False, compare=False)
-    _state: NDArray[np.float64] = field(init=False, repr=False, compare=False)
-    _fifo_t: NDArray[np.float64] = field(init=False, repr=False, compare=False)
-    _fifo_w: NDArray[np.float64] = field(init=False, repr=False, compare=False)
-
-    def __post_init__(self) -> None:
-        if self.tilt_time_constant_s is not None:
-            _positive("tilt_time_constant_s", self.tilt_time_constant_s)
-        if self.gyro_bias_time_constant_s is not None:
-            _positive("gyro_bias_time_constant_s", self.gyro_bias_time_constant_s)
-        _non_negative("gyro_bias_guard_s", self.gyro_bias_guard_s)
-        self.reset()
-
-    def reset(self) -> None:
-        """Forget the attitude: the next sample levels it again from gravity."""
-        self.q = np.array([1.0, 0.0, 0.0, 0.0])
-        self.bias = np.zeros(3)
-        self._state = np.array([np.nan, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
-        self._fifo_t = np.zeros(_BIAS_FIFO)
-        self._fifo_w = np.zeros((_BIAS_FIFO, 4))
-
-    @property
-    def started(self) -> bool:
-        """Whether a sample has set the attitude since the last reset."""
-        return bool(np.isfinite(self._state[0]))
-
-    def update(
-        self,
-        t: ArrayLike,
-        gyro: ArrayLike,
-        up: ArrayLike,
-        stationary: ArrayLike | None = None,
-    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Propagate through the next samples.
-
-        Args:
-            t: (N,) sample times, s, increasing and after those of earlier calls.
-            gyro: (N, 3) angular rate, phone frame, rad/s.
-            up: (N, 3) gravity, up-pointing, phone frame (only its direction is
-                used): the first levels the attitude, all align the tilt.
-            stationary: (N,) True where the phone is still (gyro-bias
-                estimation); None for never.
-
-        Returns:
-            (N, 4) world←phone quaternions and (N,) relative yaws, rad.
-        """
-        t = np.asarray(t, dtype=float).reshape(-1)
-        gyro = np.asarray(gyro, dtype=float).reshape(-1, 3)
-        up = np.asarray(up, dtype=float).reshape(-1, 3)
-        still = (
-            np.zeros(len(t), dtype=bool)
-            if stationary is None
-            else np.asarray(stationary, dtype=bool).reshape(-1)
-        )
-        if not (len(t) == len(gyro) == len(up) == len(still)):
-            raise ValueError(f"{len(t)} times, {len(gyro)} gyro, {len(up)} up, {len(still)} flags")
-        out_q = np.empty((len(t), 4))
-        out_yaw = np.empty(len(t))
-        if not len(t):
-            return out_q, out_yaw
-        if not self.started:
-            if not np.linalg.norm(up[0]) > 0:
-                raise ValueError("the first up vector is zero: no gravity to level the attitude")
-            self.q = _level_quaternion(up[0])
-        tilt_rate = 0.0 if self.tilt_time_constant_s is None else 1.0 / self.tilt_time_constant_s
-        tau = self.gyro_bias_time_constant_s
-        bias_rate = 0.0 if tau is None else 1.0 / tau
-        _attitude_run(
-            t,
-            gyro,
-            up,
-            still,
-            self.q,
-            self.bias,
-            self._state,
-            self._fifo_t,
-            self._fifo_w,
-            tilt_rate,
-            bias_rate,
-            self.gyro_bias_guard_s,
-            out_q,
-            out_yaw,
-        )
-        return out_q, out_yaw
 
 
 # ------------------------------------------------------------------ the facade
@@ -999,13 +278,13 @@ class GaitDeadReckoning:
     _pending: _Trough | None = field(default=None, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        _positive("pendulum_length", self.pendulum_length)
-        _positive("length_scale", self.length_scale)
-        _positive("gravity_cutoff_hz", self.gravity_cutoff_hz)
-        _positive("step_cutoff_hz", self.step_cutoff_hz)
-        _non_negative("trough_threshold_mps2", self.trough_threshold_mps2)
-        _positive("min_step_s", self.min_step_s)
-        _positive("max_step_s", self.max_step_s)
+        positive("pendulum_length", self.pendulum_length)
+        positive("length_scale", self.length_scale)
+        positive("gravity_cutoff_hz", self.gravity_cutoff_hz)
+        positive("step_cutoff_hz", self.step_cutoff_hz)
+        non_negative("trough_threshold_mps2", self.trough_threshold_mps2)
+        positive("min_step_s", self.min_step_s)
+        positive("max_step_s", self.max_step_s)
         if self.max_step_s <= self.min_step_s:
             raise ValueError(
                 f"max_step_s ({self.max_step_s}) must exceed min_step_s ({self.min_step_s})"
@@ -1016,7 +295,7 @@ class GaitDeadReckoning:
                 f"step_cutoff_hz ({self.step_cutoff_hz})"
             )
         if self.rate_hz is not None:
-            _positive("rate_hz", self.rate_hz)
+            positive("rate_hz", self.rate_hz)
             self._check_rate(self.rate_hz)
         self.reset(0.0)
 
@@ -1133,7 +412,7 @@ class GaitDeadReckoning:
         if denom == 0.0:
             raise ValueError("cannot calibrate length_scale: every step has S_VD = 0")
         scale = float(lengths.sum()) / denom
-        _positive("length_scale", scale)
+        positive("length_scale", scale)
         self.length_scale = scale
         return scale
 

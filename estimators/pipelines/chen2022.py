@@ -145,6 +145,7 @@ from indoorsim.estimators.frames import wrap_angle
 from indoorsim.estimators.pdr.gait import GaitDeadReckoning, GaitStep
 from indoorsim.estimators.pipelines.han2023 import match_steps
 from indoorsim.io.recording import Recording
+from indoorsim.util.seeding import generator
 from indoorsim.windows import Windower
 
 __all__ = [
@@ -790,7 +791,7 @@ class Chen2022FrontEnd:
             **options,
         )
         # One generator per episode, from the episode's seed: same episode, same estimates.
-        self._rng = np.random.default_rng(np.random.SeedSequence(start.seed))
+        self._rng = generator(start.seed)
         pf.initialise(
             start.position,
             heading=start.heading,

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from indoorsim.dataset.config import DatasetConfig
+from indoorsim.util.seeding import generator
 from indoorsim.walker.schedule import ModeSchedule
 
 __all__ = ["Plan", "ShardSpec", "SiteSpec", "WalkSpec", "make_plan", "split_sites"]
@@ -44,7 +45,7 @@ _MAX_SEED = 2**63 - 1
 
 
 def _rng(seed: int, *key: int) -> np.random.Generator:
-    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(PLAN_PHASE, *key)))
+    return generator(seed, (PLAN_PHASE, *key))
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -25,6 +25,7 @@ from scipy.interpolate import CubicSpline
 from scipy.spatial.transform import Rotation
 
 from indoorsim.util import quaternion as quat_ops
+from indoorsim.util.kernels import hamilton, normalised, rotvec_from_quat
 
 
 def normal_gravity(latitude_deg: float) -> float:
@@ -116,28 +117,23 @@ class IdealImu:
 
 # ----------------------------------------------------------------- compiled kernels
 # One pass each over a long trajectory, where the numpy forms make a dozen
-# temporaries (rotations of vectors: indoorsim.util.quaternion.rotate).
+# temporaries (rotations of vectors: indoorsim.util.quaternion.rotate). The
+# per-quaternion arithmetic comes from indoorsim.util.kernels.
 
 
 @numba.njit(cache=True, error_model="numpy")
 def _rates(t, q, out):  # pragma: no cover - compiled
     """Body rates between consecutive samples: out[:, k] = log(q_k* ⊗ q_{k+1}) / Δt (short way)."""
     for k in range(q.shape[0] - 1):
-        w1, x1, y1, z1 = q[k, 0], -q[k, 1], -q[k, 2], -q[k, 3]
-        w2, x2, y2, z2 = q[k + 1, 0], q[k + 1, 1], q[k + 1, 2], q[k + 1, 3]
-        w = w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2
-        x = w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2
-        y = w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2
-        z = w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2
-        if w < 0.0:
-            w, x, y, z = -w, -x, -y, -z
-        s = math.sqrt(x * x + y * y + z * z)
-        # angle / s → 2 as s → 0 (small-angle limit), avoiding 0/0.
-        scale = 2.0 * math.atan2(s, w) / s if s > 1e-12 else 2.0
-        dt = t[k + 1] - t[k]
-        out[0, k] = x * scale / dt
-        out[1, k] = y * scale / dt
-        out[2, k] = z * scale / dt
+        j = k + 1
+        w, x, y, z = hamilton(
+            q[k, 0], -q[k, 1], -q[k, 2], -q[k, 3], q[j, 0], q[j, 1], q[j, 2], q[j, 3]
+        )
+        x, y, z = rotvec_from_quat(w, x, y, z)
+        dt = t[j] - t[k]
+        out[0, k] = x / dt
+        out[1, k] = y / dt
+        out[2, k] = z / dt
 
 
 # Samples the interval search walks before it bisects.
@@ -164,7 +160,15 @@ def _interval(tk, x, i):  # pragma: no cover - compiled
 
 @numba.njit(cache=True, error_model="numpy")
 def _slerp(tk, qk, t, out):  # pragma: no cover - compiled
-    """Spherical-linear interpolation of sign-continuous samples qk at times t (clipped inside)."""
+    """Spherical-linear interpolation of sign-continuous samples qk at times t (clipped inside).
+
+    Not :func:`indoorsim.util.quaternion.slerp`, although the formula is the
+    same: this one takes ``math.acos`` and ``math.sin`` per sample and sums the
+    knots' dot product left to right, that one numpy's transcendentals over
+    whole arrays and the dot product as numpy's einsum sums it, so the two
+    agree to ~1e-15, not bit for bit (tested). Recordings are made with this
+    one, so it stays; the interval search from a hint is its own as well.
+    """
     i = 0
     for m in range(t.shape[0]):
         i = _interval(tk, t[m], i)
@@ -181,6 +185,6 @@ def _slerp(tk, qk, t, out):  # pragma: no cover - compiled
             wa, wb = 1.0 - f, f
         else:
             wa, wb = math.sin((1.0 - f) * theta) / sin, math.sin(f * theta) / sin
-        r0, r1, r2, r3 = wa * a0 + wb * b0, wa * a1 + wb * b1, wa * a2 + wb * b2, wa * a3 + wb * b3
-        norm = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2 + r3 * r3)
-        out[m, 0], out[m, 1], out[m, 2], out[m, 3] = r0 / norm, r1 / norm, r2 / norm, r3 / norm
+        out[m, 0], out[m, 1], out[m, 2], out[m, 3] = normalised(
+            wa * a0 + wb * b0, wa * a1 + wb * b1, wa * a2 + wb * b2, wa * a3 + wb * b3
+        )

@@ -4,29 +4,54 @@ scipy's :class:`~scipy.spatial.transform.Rotation` is the reference for
 rotations in indoorsim; these few operations exist because its per-rotation
 overhead (~0.4 µs for a product) dominates when a ten-minute walk is sampled
 at 200 Hz. Each function works on stacks (..., 4) and agrees with scipy to
-rounding (tested).
+rounding (tested). The arithmetic per quaternion lives in
+:mod:`indoorsim.util.kernels`; this module makes the passes over stacks.
 """
 
 from __future__ import annotations
+
+import math
 
 import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from indoorsim.util.kernels import hamilton, normalised, quat_norm, rotate_vector
+
 
 def multiply(a: ArrayLike, b: ArrayLike) -> NDArray[np.float64]:
-    """Hamilton product a ⊗ b (compose rotations: apply b, then a)."""
-    w1, x1, y1, z1 = np.moveaxis(np.asarray(a, dtype=float), -1, 0)
-    w2, x2, y2, z2 = np.moveaxis(np.asarray(b, dtype=float), -1, 0)
-    return np.stack(
-        [
-            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-        ],
-        axis=-1,
-    )
+    """Hamilton product a ⊗ b (compose rotations: apply b, then a).
+
+    The two stacks (…, 4) broadcast against each other; a single quaternion
+    is applied to every row of the other stack without being repeated in
+    memory. One compiled pass of :func:`~indoorsim.util.kernels.hamilton`.
+    """
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    if a.shape[-1:] != (4,) or b.shape[-1:] != (4,):
+        raise ValueError(f"multiply: expected quaternions (..., 4), got {a.shape} and {b.shape}")
+    shape = np.broadcast_shapes(a.shape[:-1], b.shape[:-1])
+    out = np.empty((math.prod(shape), 4))
+    _multiply_kernel(_rows(a, shape), _rows(b, shape), out)
+    return out.reshape(*shape, 4)
+
+
+def _rows(q: NDArray[np.float64], shape: tuple[int, ...]) -> NDArray[np.float64]:
+    """The quaternions q as contiguous rows (K, 4) of the broadcast ``shape``, or one row."""
+    if q.size == 4:
+        return np.ascontiguousarray(q).reshape(1, 4)
+    return np.ascontiguousarray(np.broadcast_to(q, (*shape, 4))).reshape(-1, 4)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _multiply_kernel(a, b, out):  # pragma: no cover - compiled
+    """out[k] = a[k] ⊗ b[k], where a or b may hold a single quaternion for all k."""
+    sa, sb = a.shape[0] > 1, b.shape[0] > 1
+    for k in range(out.shape[0]):
+        i, j = k if sa else 0, k if sb else 0
+        out[k, 0], out[k, 1], out[k, 2], out[k, 3] = hamilton(
+            a[i, 0], a[i, 1], a[i, 2], a[i, 3], b[j, 0], b[j, 1], b[j, 2], b[j, 3]
+        )
 
 
 def conjugate(q: ArrayLike) -> NDArray[np.float64]:
@@ -36,13 +61,40 @@ def conjugate(q: ArrayLike) -> NDArray[np.float64]:
     return out
 
 
+def normalise(q: ArrayLike, *, min_norm: float = 0.0) -> NDArray[np.float64]:
+    """Quaternions q (…, 4) divided by their norms; those of norm ≤ ``min_norm``, or NaN, become
+    the identity (a logged or held quaternion drifts from unit norm; a missing one is zero).
+
+    One compiled pass of :func:`~indoorsim.util.kernels.normalised`: the same
+    bits as ``q / np.linalg.norm(q, axis=-1, keepdims=True)`` where the norm
+    is above ``min_norm``.
+    """
+    q = np.asarray(q, dtype=float)
+    if q.shape[-1:] != (4,):
+        raise ValueError(f"normalise: expected quaternions (..., 4), got {q.shape}")
+    rows = np.ascontiguousarray(q).reshape(-1, 4)
+    out = np.empty_like(rows)
+    _normalise_kernel(rows, min_norm, out)
+    return out.reshape(q.shape)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _normalise_kernel(q, min_norm, out):  # pragma: no cover - compiled
+    """out[k] = q[k] / ‖q[k]‖, or the identity where ‖q[k]‖ is not above ``min_norm``."""
+    for k in range(q.shape[0]):
+        w, x, y, z = q[k, 0], q[k, 1], q[k, 2], q[k, 3]
+        if quat_norm(w, x, y, z) > min_norm:
+            out[k, 0], out[k, 1], out[k, 2], out[k, 3] = normalised(w, x, y, z)
+        else:
+            out[k, 0], out[k, 1], out[k, 2], out[k, 3] = 1.0, 0.0, 0.0, 0.0
+
+
 def rotate(q: ArrayLike, v: ArrayLike, *, inverse: bool = False) -> NDArray[np.float64]:
     """Apply the rotation q (…, 4), or its inverse, to vectors v (…, 3): q ⊗ (0, v) ⊗ q*.
 
-    The two stacks broadcast against each other. Computed as v + w·t + u × t
-    with t = 2 u × v (u the vector part of q, w its scalar), in one compiled
-    pass: a walk rotates 10⁵ vectors at a time, where numpy's form would make
-    a dozen temporaries.
+    The two stacks broadcast against each other. One compiled pass of
+    :func:`~indoorsim.util.kernels.rotate_vector`: a walk rotates 10⁵ vectors
+    at a time, where numpy's form would make a dozen temporaries.
     """
     q = np.asarray(q, dtype=float)
     v = np.asarray(v, dtype=float)
@@ -58,18 +110,19 @@ def rotate(q: ArrayLike, v: ArrayLike, *, inverse: bool = False) -> NDArray[np.f
 def _rotate_kernel(q, v, sign, out):  # pragma: no cover - compiled
     """out = q ⊗ (0, v) ⊗ q* with the vector part of q times ``sign`` (−1: the inverse)."""
     for k in range(q.shape[0]):
-        w, x, y, z = q[k, 0], sign * q[k, 1], sign * q[k, 2], sign * q[k, 3]
-        vx, vy, vz = v[k, 0], v[k, 1], v[k, 2]
-        tx = 2.0 * (y * vz - z * vy)
-        ty = 2.0 * (z * vx - x * vz)
-        tz = 2.0 * (x * vy - y * vx)
-        out[k, 0] = vx + w * tx + (y * tz - z * ty)
-        out[k, 1] = vy + w * ty + (z * tx - x * tz)
-        out[k, 2] = vz + w * tz + (x * ty - y * tx)
+        out[k, 0], out[k, 1], out[k, 2] = rotate_vector(
+            q[k, 0], sign * q[k, 1], sign * q[k, 2], sign * q[k, 3], v[k, 0], v[k, 1], v[k, 2]
+        )
 
 
 def relative_rotvec(q0: ArrayLike, q1: ArrayLike) -> NDArray[np.float64]:
-    """Rotation vector of q0* ⊗ q1: the body-frame rotation carrying q0 to q1."""
+    """Rotation vector of q0* ⊗ q1: the body-frame rotation carrying q0 to q1.
+
+    The numpy form of :func:`~indoorsim.util.kernels.rotvec_from_quat`, which
+    the simulator's compiled passes use: the same formula, but numpy's
+    ``arctan2`` need not round as ``math.atan2`` does, so the two may differ
+    in the last bit.
+    """
     rel = multiply(conjugate(q0), q1)
     rel *= np.where(rel[..., :1] < 0, -1.0, 1.0)  # the short way round
     v = rel[..., 1:]
@@ -91,6 +144,13 @@ def slerp(
     """Spherical-linear interpolation of sign-continuous samples q (K, 4) at times t.
 
     Times outside the knots extrapolate along the first or last interval.
+
+    The ideal IMU (:class:`~indoorsim.phone.kinematics.IdealImu`) has its own
+    compiled slerp, which agrees with this one to ~1e-15 but not bit for bit:
+    it takes ``math.acos`` and ``math.sin`` per sample where this takes
+    numpy's over whole arrays, and sums the knots' dot product left to right
+    where this sums it as numpy's einsum does. Each keeps its own so that
+    neither's outputs move.
 
     Args:
         t_knots: (K,) sorted sample times, K ≥ 2.
@@ -179,7 +239,5 @@ def _slerp_blend(qk, i, f, sign, sin, sin_a, sin_b, out):  # pragma: no cover - 
         r1 = wa * qk[k, 1] + wb * (qk[k + 1, 1] * s)
         r2 = wa * qk[k, 2] + wb * (qk[k + 1, 2] * s)
         r3 = wa * qk[k, 3] + wb * (qk[k + 1, 3] * s)
-        # Summed left to right, as numpy's norm along a row of four.
-        norm = np.sqrt(((r0 * r0 + r1 * r1) + r2 * r2) + r3 * r3)
-        out[m, 0], out[m, 1] = r0 / norm, r1 / norm
-        out[m, 2], out[m, 3] = r2 / norm, r3 / norm
+        # normalised sums left to right, as numpy's norm along a row of four.
+        out[m, 0], out[m, 1], out[m, 2], out[m, 3] = normalised(r0, r1, r2, r3)

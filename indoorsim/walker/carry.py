@@ -330,20 +330,6 @@ def _sign_continuous_kernel(q):  # pragma: no cover - compiled
 Quat = NDArray[np.float64]
 
 
-@numba.njit(cache=True, error_model="numpy")
-def _hamilton(a, b, out):  # pragma: no cover - compiled
-    """out[k] = a[k] ⊗ b[k], where a or b may hold a single quaternion for all k."""
-    sa, sb = a.shape[0] > 1, b.shape[0] > 1
-    for k in range(out.shape[0]):
-        i, j = k if sa else 0, k if sb else 0
-        w1, x1, y1, z1 = a[i, 0], a[i, 1], a[i, 2], a[i, 3]
-        w2, x2, y2, z2 = b[j, 0], b[j, 1], b[j, 2], b[j, 3]
-        out[k, 0] = w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2
-        out[k, 1] = w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2
-        out[k, 2] = w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2
-        out[k, 3] = w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2
-
-
 def _compose(*rotations: Quat) -> Quat:
     """The product q₁ ⊗ q₂ ⊗ …, each a single quaternion or a stack of one common length.
 
@@ -351,10 +337,7 @@ def _compose(*rotations: Quat) -> Quat:
     """
     q = np.atleast_2d(np.asarray(rotations[0], dtype=float))
     for r in rotations[1:]:
-        r = np.atleast_2d(np.asarray(r, dtype=float))
-        out = np.empty((max(len(q), len(r)), 4))
-        _hamilton(np.ascontiguousarray(q), np.ascontiguousarray(r), out)
-        q = out
+        q = quat_ops.multiply(q, r)
     return q
 
 

@@ -72,6 +72,8 @@ from scipy.interpolate import CubicSpline
 from scipy.ndimage import maximum_filter1d
 from shapely.geometry import Polygon
 
+from indoorsim.util.seeding import generator
+
 if TYPE_CHECKING:
     from indoorsim.scenario.schema import Scenario
     from indoorsim.world.plan import FloorPlan
@@ -499,7 +501,7 @@ class MagneticModel:
             b_earth = enu_to_building(enu, site.north_deg)
 
         def rng(stream: int) -> np.random.Generator:
-            return np.random.default_rng(np.random.SeedSequence(scenario.seed, spawn_key=(stream,)))
+            return generator(scenario.seed, (stream,))
 
         def steel(
             pos: NDArray[np.float64], vol: NDArray[np.float64], stream: int

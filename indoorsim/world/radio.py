@@ -38,6 +38,8 @@ import numpy as np
 import scipy.fft
 from numpy.typing import ArrayLike, NDArray
 
+from indoorsim.util.seeding import generator
+
 if TYPE_CHECKING:
     from indoorsim.scenario.schema import Scenario
     from indoorsim.world.plan import FloorPlan
@@ -72,9 +74,7 @@ def shadowing_rng(seed: int, bssid: str) -> np.random.Generator:
     adding, removing or reordering APs leaves every other AP's field unchanged.
     """
     key = zlib.crc32(bssid.lower().encode("ascii"))
-    return np.random.default_rng(
-        np.random.SeedSequence(entropy=seed, spawn_key=(_SHADOWING_STREAM, key))
-    )
+    return generator(seed, (_SHADOWING_STREAM, key))
 
 
 @dataclass(frozen=True, kw_only=True)

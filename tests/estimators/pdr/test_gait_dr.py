@@ -1,4 +1,4 @@
-"""Chen2022 gait-based DR: closed forms, the vertical EKF, quaternion heading, streaming, walks."""
+"""Chen2022 gait-based DR: step-length closed forms, the bounce's excursion, streaming, walks."""
 
 from __future__ import annotations
 
@@ -10,14 +10,9 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import indoorsim
-from indoorsim.estimators.pdr import (
+from indoorsim.estimators.pdr.gait import (
     GaitDeadReckoning,
     GaitStep,
-    QuaternionAttitude,
-    StationaryDetector,
-    VerticalZuptEKF,
-    dcm,
-    euler_angles,
     pendulum_step_length,
     vertical_acceleration,
 )
@@ -114,128 +109,7 @@ def test_vertical_acceleration_is_independent_of_the_phone_tilt() -> None:
         np.testing.assert_allclose(vertical_acceleration(phone.apply(world), up), world[:, 2] - G)
 
 
-def test_dcm_and_euler_angles_match_scipy() -> None:
-    rot = Rotation.random(20, random_state=2)
-    q = rot.as_quat(scalar_first=True)
-    np.testing.assert_allclose(dcm(q), rot.as_matrix(), atol=1e-12)
-    pitch, roll, yaw = euler_angles(dcm(q))
-    np.testing.assert_allclose(np.column_stack([yaw, pitch, roll]), rot.as_euler("ZYX"), atol=1e-9)
-
-
-def test_quaternion_heading_of_a_constant_yaw_rate_is_rate_times_time_at_any_tilt() -> None:
-    rate = 0.37  # rad/s about the vertical, for 20 s: more than a full turn
-    t = np.arange(0.0, 20.0, 1.0 / RATE_HZ)
-    at_ear = Rotation.from_euler("xz", [80.0, 30.0], degrees=True)  # long axis near vertical
-    for tilt in [Rotation.identity(), at_ear, *Rotation.random(4, random_state=3)]:
-        phone = tilt.inv()
-        gyro = np.tile(phone.apply([0.0, 0.0, rate]), (len(t), 1))
-        up = np.tile(phone.apply([0.0, 0.0, G]), (len(t), 1))
-        q, yaw = QuaternionAttitude().update(t, gyro, up)
-        np.testing.assert_allclose(yaw, rate * t, rtol=0, atol=1e-9)
-        # The attitude itself is the tilt turned about the vertical.
-        expected = Rotation.from_rotvec(np.outer(rate * t, [0, 0, 1])) * tilt
-        q0 = Rotation.from_quat(q[0], scalar_first=True)
-        got = Rotation.from_quat(q, scalar_first=True) * q0.inv() * tilt
-        np.testing.assert_allclose(got.as_matrix(), expected.as_matrix(), atol=1e-9)
-
-
-def test_heading_follows_another_axis_when_its_axis_turns_vertical() -> None:
-    dt = 1.0 / RATE_HZ
-    # Flat phone (x followed), then rolled 80° about its y axis (x nearly vertical),
-    # then turned about the vertical at 0.5 rad/s.
-    n1, n2 = 140, 200
-    gyro = np.vstack([np.tile([0.0, 1.0, 0.0], (n1, 1)), np.zeros((1, 3))])
-    tilt = Rotation.from_rotvec([0.0, 1.0 * dt * (n1 - 0.5), 0.0])
-    gyro = np.vstack([gyro, np.tile(tilt.inv().apply([0.0, 0.0, 0.5]), (n2, 1))])
-    t = np.arange(len(gyro)) * dt
-    up = np.tile([0.0, 0.0, G], (len(t), 1))
-    _, yaw = QuaternionAttitude(tilt_time_constant_s=None).update(t, gyro, up)
-    np.testing.assert_allclose(yaw[: n1 + 1], 0.0, atol=1e-12)  # rolling is no turn
-    np.testing.assert_allclose(np.diff(yaw[n1 + 2 :]), 0.5 * dt, atol=1e-12)
-
-
-def test_gyro_bias_is_learned_while_still_and_removed() -> None:
-    bias = np.array([0.01, -0.02, 0.03])
-    t = np.arange(0.0, 15.0, 1.0 / RATE_HZ)
-    moving = t >= 5.0
-    gyro = bias + np.where(moving[:, None], [0.0, 0.0, 0.3], 0.0)
-    up = np.tile([0.0, 0.0, G], (len(t), 1))
-    learned = QuaternionAttitude()
-    _, yaw = learned.update(t, gyro, up, stationary=~moving)
-    np.testing.assert_allclose(learned.bias, bias, atol=1e-12)
-    turn = yaw[-1] - yaw[np.argmax(moving) - 1]
-    assert turn == pytest.approx(0.3 * 10.0, abs=2e-3)
-    _, raw = QuaternionAttitude(gyro_bias_time_constant_s=None).update(t, gyro, up, ~moving)
-    assert raw[-1] - raw[np.argmax(moving) - 1] > 0.3 * 10.0 + 0.25  # the bias turns it
-
-
-# --- stationary detection and the vertical EKF ---------------------------------------------------
-
-
-def test_stationary_detector_separates_still_walking_and_turning() -> None:
-    rng = np.random.default_rng(4)
-    t = np.arange(0.0, 4.0, 1.0 / RATE_HZ)
-    tremor = rng.normal(0.0, 0.05, (len(t), 3))
-    still_acc = np.array([0.0, 0.0, G]) + tremor
-    still_gyro = rng.normal(0.0, 0.02, (len(t), 3))
-    flags = StationaryDetector().update(t, still_acc, still_gyro)
-    assert not flags[t < 0.49].any() and flags[t >= 0.5].all()  # a full window first
-    walking = still_acc + np.outer(np.sin(2 * np.pi * 1.8 * t), [0.0, 0.0, 1.5])
-    assert not StationaryDetector().update(t, walking, still_gyro).any()
-    turning = still_gyro + np.array([0.0, 0.0, 0.5])
-    assert not StationaryDetector().update(t, still_acc, turning).any()
-    assert StationaryDetector().update(t, still_acc, None)[t >= 0.5].all()  # no gyro to see it
-
-
-def test_stationary_detector_streams() -> None:
-    rng = np.random.default_rng(5)
-    t = np.arange(0.0, 6.0, 1.0 / RATE_HZ)
-    acc = np.array([0.0, 0.0, G]) + np.outer(np.sin(2 * np.pi * 0.5 * t) > 0, [0, 0, 1.0]) * (
-        rng.normal(0.0, 1.0, (len(t), 3))
-    )
-    whole = StationaryDetector().update(t, acc, None)
-    assert whole.any() and not whole.all()
-    det = StationaryDetector()
-    parts = [det.update(t[i : i + 37], acc[i : i + 37], None) for i in range(0, len(t), 37)]
-    np.testing.assert_array_equal(np.concatenate(parts), whole)
-
-
-def test_ekf_step_equals_the_hand_written_equations() -> None:
-    ekf = VerticalZuptEKF(P0=np.diag([1e-3, 2e-3, 3e-2]))
-    ekf.x[:] = [0.01, -0.02, 0.05]
-    x0, P0 = ekf.x.copy(), ekf.P.copy()
-    t, a = np.array([0.0, 0.02]), np.array([0.3, -0.1])
-    states = ekf.filter(t, a, [False, True])
-    # Prediction over Δt with the mean acceleration, then ZUPT, then level.
-    dt = 0.02
-    F = np.array([[1, dt, -(dt**2) / 2], [0, 1, -dt], [0, 0, 1]])
-    B = np.array([dt**2 / 2, dt, 0])
-    qa, qb = ekf.accel_psd, ekf.bias_psd
-    Q = qa * np.array([[dt**3 / 3, dt**2 / 2, 0], [dt**2 / 2, dt, 0], [0, 0, 0]])
-    Q[2, 2] = qb * dt
-    x = F @ x0 + B * a.mean()
-    P = F @ P0 @ F.T + Q
-    for H, R in (([0.0, 1.0, 0.0], ekf.zupt_sigma_mps**2), ([1.0, 0.0, 0.0], ekf.level_psd / dt)):
-        H = np.array([H])
-        K = P @ H.T / (H @ P @ H.T + R)
-        x = x + (K * (0.0 - H @ x)).ravel()
-        P = (np.eye(3) - K @ H) @ P
-    np.testing.assert_allclose(states[0], x0)  # the first sample only sets the clock
-    np.testing.assert_allclose(states[1], x, rtol=1e-10)
-    np.testing.assert_allclose(ekf.P, P, rtol=1e-8, atol=1e-15)
-
-
-def test_zupt_holds_a_still_phone_with_a_biased_accelerometer() -> None:
-    rng = np.random.default_rng(6)
-    t = np.arange(0.0, 30.0, 1.0 / RATE_HZ)
-    a = 0.1 + rng.normal(0.0, 0.01, len(t))  # 0.1 m/s² bias read along the vertical
-    ekf = VerticalZuptEKF(level_bandwidth_hz=None)
-    states = ekf.filter(t, a, np.ones(len(t), dtype=bool))
-    assert np.abs(states[-100:, 1]).max() < 1e-3  # zero velocity
-    assert np.abs(states[:, 0]).max() < 0.01  # bounded displacement
-    assert ekf.x[2] == pytest.approx(0.1, abs=0.005)  # the bias, learned
-    free = VerticalZuptEKF(level_bandwidth_hz=None).filter(t, a, np.zeros(len(t), dtype=bool))
-    assert free[-1, 0] > 40.0  # ½·b·t² = 45 m without the ZUPT
+# --- the vertical excursion through the EKF ------------------------------------------------------
 
 
 def test_sinusoidal_bounce_gives_its_peak_to_trough_excursion() -> None:
@@ -393,13 +267,6 @@ def test_nexus_walks_in_every_mode_stay_in_a_loose_band(
         (lambda: GaitDeadReckoning(gravity_cutoff_hz=np.nan), "gravity_cutoff_hz"),
         (lambda: GaitDeadReckoning(gravity_cutoff_hz=4.0), "gravity_cutoff_hz"),
         (lambda: GaitDeadReckoning(rate_hz=5.0), "rate_hz"),
-        (lambda: StationaryDetector(window_s=0.0), "window_s"),
-        (lambda: StationaryDetector(accel_std_mps2=-1.0), "accel_std_mps2"),
-        (lambda: VerticalZuptEKF(zupt_sigma_mps=0.0), "zupt_sigma_mps"),
-        (lambda: VerticalZuptEKF(level_bandwidth_hz=-0.1), "level_bandwidth_hz"),
-        (lambda: VerticalZuptEKF(P0=np.eye(2)), "P0"),
-        (lambda: QuaternionAttitude(tilt_time_constant_s=0.0), "tilt_time_constant_s"),
-        (lambda: QuaternionAttitude(gyro_bias_guard_s=-1.0), "gyro_bias_guard_s"),
         (lambda: pendulum_step_length(0.05, -1.0), "pendulum_length"),
     ],
 )
@@ -418,3 +285,12 @@ def test_rejects_bad_input() -> None:
         dr.update(np.arange(3.0), np.zeros((3, 3)), np.zeros((2, 3)))
     with pytest.raises(ValueError, match="rate_hz"):  # 4 Hz sampling for a 3 Hz low-pass
         dr.update(np.arange(20) * 0.25, np.tile([0.0, 0.0, G], (20, 1)), None)
+
+
+def test_the_components_still_import_from_the_gait_module() -> None:
+    from indoorsim.estimators.pdr import attitude, gait, zupt
+
+    assert gait.QuaternionAttitude is attitude.QuaternionAttitude
+    assert (gait.dcm, gait.euler_angles) == (attitude.dcm, attitude.euler_angles)
+    assert gait.StationaryDetector is zupt.StationaryDetector
+    assert gait.VerticalZuptEKF is zupt.VerticalZuptEKF
