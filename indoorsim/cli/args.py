@@ -24,6 +24,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CliError",
+    "add_board_folders",
     "check_folder",
     "check_out",
     "device_profile",
@@ -40,6 +41,18 @@ class CliError(Exception):
 
 
 # ------------------------------------------------------------- argument types
+
+
+def add_board_folders(parser: argparse.ArgumentParser, realdata_help: str) -> None:
+    """``--out`` (default ``leaderboards/``) and ``--realdata``, as the board commands take them."""
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("leaderboards"),
+        metavar="DIR",
+        help="default leaderboards/",
+    )
+    parser.add_argument("--realdata", type=Path, metavar="DIR", help=realdata_help)
 
 
 def positive(convert: Callable[[str], float]) -> Callable[[str], float]:

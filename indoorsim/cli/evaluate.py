@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 from indoorsim.cli.args import (
     CliError,
+    add_board_folders,
     check_folder,
     device_profile,
     mode_schedule,
@@ -194,18 +195,9 @@ def add_leaderboard(subparsers: Subparsers) -> None:
         "--estimator", action="append", metavar="NAME", help="only these estimators (repeatable)"
     )
     parser.add_argument("--quick", action="store_true", help="one seed, two modes, no real data")
-    parser.add_argument(
-        "--out",
-        type=Path,
-        default=Path("leaderboards"),
-        metavar="DIR",
-        help="default leaderboards/",
-    )
-    parser.add_argument(
-        "--realdata",
-        type=Path,
-        metavar="DIR",
-        help="the folder of real recordings for the real-data tables (default: "
+    add_board_folders(
+        parser,
+        "the folder of real recordings for the real-data tables (default: "
         "$INDOORSIM_REALDATA, else ../shared/realdata beside the repository)",
     )
     parser.set_defaults(handler=_run_leaderboard)

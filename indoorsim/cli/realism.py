@@ -11,10 +11,16 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-from indoorsim.cli.args import CliError, check_folder, device_profile, mode_schedule, seed_number
+from indoorsim.cli.args import (
+    CliError,
+    add_board_folders,
+    check_folder,
+    device_profile,
+    mode_schedule,
+    seed_number,
+)
 
 if TYPE_CHECKING:
     from indoorsim.cli.args import Subparsers
@@ -31,18 +37,9 @@ def add_realism(subparsers: Subparsers) -> None:
         "heading jitter and drift) with those of real phone logs, by the same functions. "
         "Writes realism.md, the CSVs and realism_motion.png.",
     )
-    parser.add_argument(
-        "--out",
-        type=Path,
-        default=Path("leaderboards"),
-        metavar="DIR",
-        help="default leaderboards/",
-    )
-    parser.add_argument(
-        "--realdata",
-        type=Path,
-        metavar="DIR",
-        help="measure the real logs in this folder instead of reading the committed table "
+    add_board_folders(
+        parser,
+        "measure the real logs in this folder instead of reading the committed table "
         "of their statistics",
     )
     parser.add_argument(
