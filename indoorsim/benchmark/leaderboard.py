@@ -29,6 +29,7 @@ from indoorsim.benchmark.evaluation import (
     evaluate,
     evaluate_recording,
 )
+from indoorsim.benchmark.realism.report import RealismConfig, run_realism
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
 from indoorsim.util.provenance import REPO, git_revision, realdata_dir
@@ -130,6 +131,8 @@ class BoardConfig:
     window_s: float = 1.0
     real_data: bool = True
     paper_experiments: bool = True
+    realism: bool = True
+    """Also write ``realism.md``: simulated phone motion beside real phones."""
 
     @classmethod
     def quick(cls, scenarios: Sequence[str] | None = None) -> BoardConfig:
@@ -141,6 +144,7 @@ class BoardConfig:
             seeds=(0,),
             real_data=False,
             paper_experiments=False,
+            realism=False,
         )
 
 
@@ -199,6 +203,13 @@ def run_leaderboard(
         tables["real_data"] = write_real_data(out, real / ILC_TRACES, progress=progress)
     if config.real_data and (real / OXFORD).is_dir():
         write_step_counts(out, real / OXFORD, progress=progress)
+    if config.realism:
+        run_realism(
+            out,
+            config=RealismConfig(device=config.device),
+            realdata=None if realdata is None else real,
+            progress=progress,
+        )
     write_provenance(out, {"config": _jsonable_config(config)})
     write_readme(out, tables)
     return tables
@@ -352,6 +363,17 @@ def write_readme(out: Path, tables: dict[str, pd.DataFrame]) -> None:
         report = out / f"{paper}.md"
         if report.is_file():
             parts += [report.read_text().rstrip(), ""]
+    realism = out / "realism.md"
+    if realism.is_file():
+        parts += [
+            "## Realism",
+            "",
+            "Simulated phone motion beside real phones, statistic by statistic: "
+            "[realism.md](realism.md) (`indoorsim realism`).",
+            "",
+            "![realism](realism_motion.png)",
+            "",
+        ]
     steps = out / "step_counts_real.md"
     if steps.is_file():
         parts += ["## " + steps.read_text().split("\n", 1)[0].lstrip("# "), ""]

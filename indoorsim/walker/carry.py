@@ -4,17 +4,25 @@
 phone in one or more carrying modes (DESIGN §5, numbers from REALISM §6.1):
 
 * ``handheld`` — in front of the chest, screen up and pitched toward the eyes
-  (``pitch_deg``: 0 is flat and steady, as in Han2023's experiments; ~30° is
-  texting), y-axis forward; the arm passes the trunk's bounce with damping
-  and adds a faint 8–12 Hz tremor.
+  (``pitch_deg``: 0 is flat, as in Han2023's experiments; ~30° is texting),
+  y-axis forward; the forearm swings at the elbow and the hand nods and rocks
+  the phone at the wrist, each joint a damped spring driven by the trunk's
+  motion, plus a faint 8–12 Hz tremor.
 * ``calling`` — at the ear, screen toward the head, long axis tilted 30–60°
-  from vertical, x-axis along ±forward; the head shades the light sensor.
+  from vertical, x-axis along ±forward; the head rides on the neck (a damped
+  spring) and nods and rocks on it; it shades the light sensor.
 * ``dangling`` — in the swinging hand: the arm is a pendulum about the
   shoulder, simulated with pymunk, driven at stride frequency (±15–25°) and
-  shaken by the shoulder's own acceleration.
-* ``pocketed`` — in a front trouser pocket: long axis along the thigh, pitching
-  with the thigh ±18–23° at stride frequency, jolted at the same-side heel
-  strike, in the dark.
+  shaken by the shoulder's own acceleration; the forearm follows through at
+  the elbow, turning and arcing with its swing.
+* ``pocketed`` — in a front trouser pocket (either side): long axis along the
+  thigh, which turns at the hip in three planes over the gait cycle (flexion
+  after the normal-gait hip curve, ab-/adduction and rotation with drawn lags),
+  jolted at the same-side heel strike, in the dark.
+
+What a mode draws per use (grip, misalignment, joint stiffness and damping,
+pocket side and placement, swing and twist amplitudes) is in its fields'
+documentation; a schedule entry's parameters fix any of them.
 
 Modes are components: frozen dataclasses whose fields are their parameters,
 registered by name (the protocol and the registry, with its entry-point group
@@ -50,7 +58,7 @@ from numpy.typing import NDArray
 from pymunk._chipmunk_cffi import lib as _CP
 from scipy.interpolate import CubicSpline
 from scipy.ndimage import gaussian_filter1d
-from scipy.signal import butter, oaconvolve, sosfilt, sosfilt_zi
+from scipy.signal import bilinear, butter, lfilter, oaconvolve, sosfilt, sosfilt_zi
 from scipy.spatial.transform import Rotation
 
 from indoorsim.util import quaternion as quat_ops
@@ -65,6 +73,7 @@ from indoorsim.walker.modes import (
     register_mode,
 )
 from indoorsim.walker.motion import impulse_displacement
+from indoorsim.walker.physics import PYMUNK_LOCK
 from indoorsim.walker.schedule import ModeSchedule, ScheduleError, ScheduleLike
 
 __all__ = [
@@ -94,7 +103,26 @@ _HIP_HALF_WIDTH = 0.055
 # Where the phone sits in a front trouser pocket: along the thigh from the hip
 # joint, and in front of the thigh's axis (m) [E]; and the hip's sideways
 # rocking (ab-/adduction) amplitude (°) [E].
-_POCKET_ALONG_M, _POCKET_FRONT_M, _HIP_ROLL_DEG = 0.15, 0.07, 3.0
+_POCKET_ALONG_M, _POCKET_FRONT_M = 0.15, 0.07
+
+
+def _hip_flexion() -> CubicSpline:
+    """The hip's sagittal angle over a gait cycle from heel strike, scaled to ±1.
+
+    Knots read off the normal-gait hip flexion curve (Winter, *Biomechanics and
+    Motor Control of Human Movement*, 2009: ≈ 25° flexed at heel strike,
+    ≈ 10° extended at 55 % of the cycle, ≈ 30° flexed late in swing) [E],
+    joined by a periodic cubic spline.
+    """
+    p = np.array([0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.55, 0.62, 0.7, 0.8, 0.88, 0.95, 1.0])
+    deg = np.array([25.0, 23.0, 15.0, 7.0, 0.0, -8.0, -10.0, -4.0, 8.0, 22.0, 28.0, 27.0, 25.0])
+    grid = np.linspace(0.0, 1.0, 1001)
+    raw = CubicSpline(p, deg, bc_type="periodic")(grid)
+    mid, half = 0.5 * (raw.max() + raw.min()), 0.5 * np.ptp(raw)
+    return CubicSpline(p, (deg - mid) / half, bc_type="periodic")
+
+
+_HIP_FLEXION = _hip_flexion()
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -402,6 +430,21 @@ def _acceleration(pos: NDArray[np.float64], t: NDArray[np.float64]) -> NDArray[n
     return np.gradient(np.gradient(pos, t, axis=0), t, axis=0)
 
 
+def _oscillator(
+    drive: NDArray[np.float64], natural_hz: float, damping: float, rate_hz: float
+) -> NDArray[np.float64]:
+    """θ of θ̈ + 2ζω·θ̇ + ω²·θ = drive, from rest (ω = 2π·natural_hz, ζ = damping).
+
+    A limb segment held by muscle about a joint: below its natural frequency
+    it follows the static balance drive/ω², near it the response rings, above
+    it the segment's inertia holds it still. Discretised by the bilinear
+    transform (at the body's 200 Hz and more, frequency warping is negligible).
+    """
+    omega = 2.0 * np.pi * natural_hz
+    b, a = bilinear([1.0], [1.0, 2.0 * damping * omega, omega**2], fs=rate_hz)
+    return lfilter(b, a, drive, axis=0)
+
+
 def _to_body(vec: NDArray[np.float64], heading: NDArray[np.float64]) -> NDArray[np.float64]:
     """Horizontal vectors in the walking frame: (forward, left)."""
     c, s = np.cos(heading), np.sin(heading)
@@ -470,7 +513,19 @@ def _side(which: str) -> float:
 @register_mode
 @dataclass(kw_only=True, frozen=True)
 class Handheld(CarryMode):
-    """Held in front of the chest, screen up, looked at (REALISM §6.1 texting row)."""
+    """Held in front of the chest, screen up, looked at (REALISM §6.1 texting row).
+
+    Two joints carry the phone, each held by muscle like a damped spring
+    (:func:`_oscillator`): the forearm pivots at the elbow, which rides on the
+    trunk (its bounce, heel strikes and yaw), and the hand, with the phone,
+    pivots at the wrist. The elbow's acceleration across the forearm swings
+    the forearm (stiff, 4–6 Hz: the phone's acceleration is the trunk's passed
+    through it, harmonics and all); the hand's acceleration acts on the phone's
+    offset from the wrist and nods it (pitch) and rocks it (roll), softly —
+    the largest rotation of a real handheld phone, at the step rate. The grip
+    turns the phone a little about the forearm, so the nod shows on more than
+    one phone axis.
+    """
 
     name: ClassVar[str] = "handheld"
     pitch_deg: float = 30.0
@@ -485,50 +540,120 @@ class Handheld(CarryMode):
     """RMS of the hand's 8–12 Hz angular tremor [E]."""
     tremor_mm: float = 0.015
     """RMS of the hand's 8–12 Hz positional tremor (≈ 0.06 m/s² RMS) [E]."""
-    arm_cutoff_hz: float = 3.0
-    """The arm passes the trunk's vertical motion below this and damps heel strikes."""
-    bounce_gain: float = 0.8
-    """Fraction of the trunk's vertical bounce the phone follows."""
-    tilt_per_accel_deg: float = 0.3
-    """Pitch and roll of the hand per m/s² of (low-passed) trunk acceleration [E]."""
-    trunk_coupling: float = 0.5
-    """Fraction of the trunk's yaw oscillation the phone follows (the arms
-    steady the phone against the trunk's rotation)."""
+    forearm_m: float = 0.3
+    """Elbow to the middle of the grip (≈ 0.17 of body height, Drillis & Contini)."""
+    forearm_rise_deg: float = 25.0
+    """Elevation of the forearm from the elbow up to the hand [E]."""
+    forearm_inward_deg: float = 25.0
+    """Turn of the forearm toward the body's midline: the elbow is at the side [E]."""
+    elbow_natural_hz: tuple[float, float] = (5.5, 7.5)
+    """Range of the held forearm's natural frequency about the elbow, drawn per use [E]."""
+    elbow_damping: tuple[float, float] = (0.4, 0.6)
+    """Range of the forearm's damping ratio, drawn per use [E]."""
+    wrist_offset_m: float = 0.07
+    """Distance from the wrist to the centre of mass of hand and phone, along the hand [E]."""
+    palm_height_m: float = 0.02
+    """Height of that centre of mass above the forearm's axis (the phone lies on the palm) [E]."""
+    thumb_offset_m: float = 0.03
+    """Its offset beside the forearm's axis, toward the thumb: a phone held in one
+    hand reaches past the thumb, toward the body's midline [E]."""
+    wrist_gyration_m: float = 0.05
+    """Radius of gyration of hand and phone about their centre of mass [E]."""
+    wrist_pitch_hz: tuple[float, float] = (3.0, 4.0)
+    """Range of the wrist's natural frequency in flexion (the nod) and in radial-ulnar
+    deviation (the sideways turn), drawn per use [E]."""
+    wrist_roll_hz: tuple[float, float] = (4.5, 6.5)
+    """Range of its natural frequency in rotation about the forearm, drawn per use [E]."""
+    wrist_damping: tuple[float, float] = (0.15, 0.3)
+    """Range of the wrist's damping ratio, drawn per use [E]."""
+    grip_roll_deg: float = 12.0
+    """Largest turn of the phone about the forearm's axis in the grip, drawn per use [E]."""
+    trunk_coupling: float = 0.8
+    """Fraction of the trunk's yaw oscillation the phone follows: the shoulders
+    turn with the thorax, a little less than the pelvis [E]."""
 
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, rate = body.height_m, body.rate_hz
-        # In front of the chest, a little toward the holding hand.
-        offset = np.array([0.13 * h, 0.02 * _side(self.hand), (_CHEST_H - PELVIS_HEIGHT_RATIO) * h])
+        # The phone's rest place: in front of the chest, a little toward the holding hand.
+        rest = np.array([0.13 * h, 0.02 * _side(self.hand), (_CHEST_H - PELVIS_HEIGHT_RATIO) * h])
+        rise, inward = math.radians(self.forearm_rise_deg), math.radians(self.forearm_inward_deg)
+        side = _side(self.hand)
+        level = np.array([math.cos(inward), -side * math.sin(inward), 0.0])
+        along = math.cos(rise) * level + [0.0, 0.0, math.sin(rise)]  # elbow → hand
+        across = -math.sin(rise) * level + [0.0, 0.0, math.cos(rise)]  # the forearm's swing
         yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
         frame = _body_frame(yaw)
-        pos = body.pos + _apply(frame, offset)
-        rest = body.pelvis_height_m
-        pos[:, 2] = (
-            rest
-            + offset[2]
-            + self.bounce_gain * _lowpass(body.pos[:, 2] - rest, self.arm_cutoff_hz, rate)
+        # The elbow hangs from the shoulder: it turns and leans with the trunk.
+        trunk = _compose(frame, _about("x", body.roll))
+        elbow = body.pos + _apply(trunk, rest - self.forearm_m * along)
+        acc = _acceleration(elbow, body.t)
+        horiz = _to_body(acc, yaw)
+        up_across = horiz[:, 0] * across[0] + horiz[:, 1] * across[1] + acc[:, 2] * across[2]
+        swing = _oscillator(
+            -up_across / self.forearm_m,
+            rng.uniform(*self.elbow_natural_hz),
+            rng.uniform(*self.elbow_damping),
+            rate,
         )
-        acc = _lowpass(_acceleration(body.pos, body.t), self.arm_cutoff_hz, rate)
-        horiz = _to_body(acc, body.heading)
-        k = math.radians(self.tilt_per_accel_deg)
+        lever = np.cos(swing)[:, None] * along + np.sin(swing)[:, None] * across
+        pos = elbow + _apply(frame, self.forearm_m * lever)
+        # The hand's acceleration on its offset from the wrist: angular drive a·d/(d² + ρ²).
+        hand_acc = _acceleration(pos, body.t)
+        hand_horiz = _to_body(hand_acc, yaw)
+        d, rho = self.wrist_offset_m, self.wrist_gyration_m
+        gain = d / (d**2 + rho**2)
+        damping = rng.uniform(*self.wrist_damping)
+        hand_across = (
+            hand_horiz[:, 0] * across[0] + hand_horiz[:, 1] * across[1] + hand_acc[:, 2] * across[2]
+        )
+        nod = _oscillator(
+            -gain * hand_across,
+            rng.uniform(*self.wrist_pitch_hz),
+            damping,
+            rate,
+        )
+        grip = math.radians(rng.uniform(-self.grip_roll_deg, self.grip_roll_deg))
+        # Sideways, the hand's acceleration turns the phone about the vertical (on the
+        # offset along the hand). About the forearm the phone rocks on its centre of
+        # mass's offsets from the axis: the vertical acceleration on the offset toward
+        # the thumb, the sideways one on the height above the palm.
+        turn = _oscillator(
+            -gain * hand_horiz[:, 1], rng.uniform(*self.wrist_pitch_hz), damping, rate
+        )
+        thumb, palm = -side * self.thumb_offset_m, self.palm_height_m
+        rock = _oscillator(
+            (thumb * hand_across - palm * hand_horiz[:, 1]) / (thumb**2 + palm**2 + rho**2),
+            rng.uniform(*self.wrist_roll_hz),
+            damping,
+            rate,
+        )
         misalign = math.radians(rng.normal(0.0, self.misalignment_deg))
         n = len(body.t)
         pos += _tremor(n, rate, 1e-3 * self.tremor_mm, rng)
         tremor = _tremor(n, rate, math.radians(self.tremor_deg), rng)
         rot = _compose(
-            _body_frame(yaw + misalign),
+            _body_frame(yaw + misalign + turn),
             _about("z", -np.pi / 2),
-            _about("x", math.radians(self.pitch_deg) + k * acc[:, 2]),
-            _about("y", -k * horiz[:, 1]),
+            _about("x", math.radians(self.pitch_deg) + swing + nod),
+            _about("y", grip + rock),
             _from_rotvec(tremor),
         )
-        return ModePose(pos=pos, rot=_rotation(rot), light_exposure=np.ones(len(body.t)))
+        return ModePose(pos=pos, rot=_rotation(rot), light_exposure=np.ones(n))
 
 
 @register_mode
 @dataclass(kw_only=True, frozen=True)
 class Calling(CarryMode):
-    """Held at the ear during a call (REALISM §6.1 calling row, §3.5)."""
+    """Held at the ear during a call (REALISM §6.1 calling row, §3.5).
+
+    The phone moves with the head. The head rides on the trunk (its bounce,
+    lean and yaw) through the neck, stiff in translation (a damped spring of
+    ``neck_natural_hz``: the heel strikes' harmonics pass, softened), and it
+    nods and rocks on the neck: the trunk's acceleration acts on the head's
+    centre of mass, ahead of and above the atlas joint, against the neck's
+    muscles (``head_natural_hz``), which steady the head but do not hold it
+    still (:func:`_oscillator`).
+    """
 
     name: ClassVar[str] = "calling"
     ear: Literal["right", "left"] = "right"
@@ -538,29 +663,48 @@ class Calling(CarryMode):
     None draws it uniformly from 30–60° per use."""
     light_exposure_range: tuple[float, float] = (0.05, 0.2)
     """Range of the head-shadow factor, drawn per use (5–20 % of the light)."""
-    head_cutoff_hz: float = 4.0
-    """The head follows the trunk's vertical motion below this, damping heel strikes."""
-    tilt_per_accel_deg: float = 0.2
-    """Nodding of head and hand per m/s² of (low-passed) trunk acceleration [E]."""
-    trunk_coupling: float = 0.3
-    """Fraction of the trunk's yaw oscillation the head follows (it is steadied)."""
+    neck_natural_hz: tuple[float, float] = (6.0, 9.0)
+    """Range of the head's natural frequency in translation on the neck, drawn per use [E]."""
+    neck_damping: tuple[float, float] = (0.4, 0.6)
+    """Range of its damping ratio, drawn per use [E]."""
+    head_natural_hz: tuple[float, float] = (2.0, 3.0)
+    """Range of the head's natural frequency in nodding and rocking on the neck [E]."""
+    head_damping: tuple[float, float] = (0.25, 0.45)
+    """Range of their damping ratio, drawn per use [E]."""
+    head_offset_m: float = 0.03
+    """Offset of the head's centre of mass ahead of (and, for rocking, beside) the
+    atlas joint's axis [E]."""
+    head_gyration_m: float = 0.08
+    """Radius of gyration of the head (with hand and phone) about its centre of mass [E]."""
+    trunk_coupling: float = 0.8
+    """Fraction of the trunk's yaw oscillation the head follows: it turns with the
+    thorax, which turns a little less than the pelvis [E]."""
 
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, rate, side = body.height_m, body.rate_hz, _side(self.ear)
         yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
+        frame = _body_frame(yaw)
         # The phone's centre: beside the head, a little ahead of and below the ear.
         offset = np.array([0.05, 0.09 * side, (_EAR_H - 0.02 - PELVIS_HEIGHT_RATIO) * h])
-        frame = _body_frame(yaw)
-        pos = body.pos + _apply(frame, offset)
-        rest = body.pelvis_height_m
-        pos[:, 2] = rest + offset[2] + _lowpass(body.pos[:, 2] - rest, self.head_cutoff_hz, rate)
+        # Where the trunk carries the head: the neck's base leans with the trunk.
+        carried = body.pos + _apply(_compose(frame, _about("x", body.roll)), offset)
+        acc = _acceleration(carried, body.t)
+        natural, damping = rng.uniform(*self.neck_natural_hz), rng.uniform(*self.neck_damping)
+        # The head's lag behind the carried point: ü + 2ζωu̇ + ω²u = −a_carried.
+        lag = _oscillator(-acc, natural, damping, rate)
+        pos = carried + lag
+        head_acc = acc + _acceleration(lag, body.t)
+        horiz = _to_body(head_acc, yaw)
+        d, r = self.head_offset_m, self.head_gyration_m
+        gain = d / (d**2 + r**2)
+        f_head, z_head = rng.uniform(*self.head_natural_hz), rng.uniform(*self.head_damping)
+        nod = _oscillator(-gain * head_acc[:, 2], f_head, z_head, rate)
+        rock = _oscillator(gain * horiz[:, 1], f_head, z_head, rate)
         tilt = math.radians(self.tilt_deg if self.tilt_deg is not None else rng.uniform(30.0, 60.0))
         # Top up and back, screen toward the head (−side), x = y × z ≈ ∓forward.
         y = np.array([-math.sin(tilt), 0.0, math.cos(tilt)])
         z = np.array([0.0, -side, 0.0])
-        acc_z = _lowpass(_acceleration(body.pos[:, 2], body.t), self.head_cutoff_hz, rate)
-        k = math.radians(self.tilt_per_accel_deg)
-        rot = _compose(frame, _about("y", -k * acc_z), _from_axes(np.cross(y, z), y, z))
+        rot = _compose(frame, _about("x", rock), _about("y", nod), _from_axes(np.cross(y, z), y, z))
         base = rng.uniform(*self.light_exposure_range)
         light = base * np.exp(0.2 * _slow_noise(len(body.t), rate, rng))
         return ModePose(pos=pos, rot=_rotation(rot), light_exposure=light)
@@ -579,7 +723,11 @@ class Dangling(CarryMode):
     pendulum's inverse response to a swing of ``swing_deg``, so the swing is
     close to that amplitude, in antiphase with the same-side leg, while
     starting, stopping, bouncing and heel strikes perturb it as they would.
-    The phone is gripped with its top forward and its screen facing outward.
+    The forearm hangs from the elbow, held by muscle like a damped spring
+    (:func:`_oscillator`): the upper arm's swing whips it on (the linearised
+    double pendulum), so the hand swings further and faster than the shoulder,
+    and it pronates as the arm swings back and supinates forward. The phone is
+    gripped with its top forward and its screen facing outward.
     """
 
     name: ClassVar[str] = "dangling"
@@ -595,7 +743,18 @@ class Dangling(CarryMode):
     """Shoulder muscle stiffness, raising the arm's natural frequency to ≈ 0.8 Hz [E]."""
     physics_rate_hz: float = 30.0
     """Step rate of the pymunk pendulum (upsampled with a C² spline)."""
+    elbow_natural_hz: tuple[float, float] = (1.1, 1.6)
+    """Range of the hanging forearm's natural frequency about the elbow (its
+    gravity pendulum, ≈ 1 Hz, stiffened by muscle tone), drawn per use [E]."""
+    elbow_damping: tuple[float, float] = (0.2, 0.4)
+    """Range of the elbow's damping ratio, drawn per use [E]."""
+    twist_deg: tuple[float, float] = (20.0, 35.0)
+    """Range of the forearm's pronation–supination with the swing, drawn per use [E]."""
+    arc_deg: tuple[float, float] = (5.0, 12.0)
+    """Range of the arm's sideways swing, toward the midline forward and out behind
+    (the hand's arc crosses in front of the thigh), drawn per use [E]."""
 
+    _UPPER_ARM: ClassVar[float] = 0.186  # shoulder to elbow, of body height (Drillis & Contini)
     _ROD_KG: ClassVar[float] = 3.0
     _HAND_KG: ClassVar[float] = 0.6
 
@@ -607,14 +766,36 @@ class Dangling(CarryMode):
             frame, [0.0, _SHOULDER_HALF_WIDTH * h * side, (_SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
         )
         swing = math.radians(self.swing_deg if self.swing_deg is not None else rng.uniform(15, 25))
-        theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)
-        arm = length * np.column_stack([np.sin(theta), np.zeros_like(theta), -np.cos(theta)])
-        pos = shoulder + _apply(frame, arm)
+        with PYMUNK_LOCK:  # the pendulum's pymunk space lives and dies inside
+            theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)
+        # The forearm about the elbow: the upper arm's angular acceleration drives it,
+        # by (1 + upper / forearm) for a forearm whose mass sits at the grip.
+        upper = self._UPPER_ARM * h
+        forearm = length - upper
+        theta_acc = np.gradient(np.gradient(theta, body.t), body.t)
+        flex = _oscillator(
+            -(1.0 + upper / forearm) * theta_acc,
+            rng.uniform(*self.elbow_natural_hz),
+            rng.uniform(*self.elbow_damping),
+            body.rate_hz,
+        )
+        hand = theta + flex
+
+        def _down(angle: NDArray[np.float64]) -> NDArray[np.float64]:
+            return np.column_stack([np.sin(angle), np.zeros_like(angle), -np.cos(angle)])
+
+        # The forearm turns and arcs with its own swing (the hand's angle), so the
+        # three rotations keep in step: −1 back … +1 forward at a full swing.
+        phase = hand / max(float(np.percentile(np.abs(hand), 98)), 1e-9)
+        twist = math.radians(rng.uniform(*self.twist_deg)) * phase
+        arc = _about("x", side * math.radians(rng.uniform(*self.arc_deg)) * phase)
+        limb = upper * _down(theta) + forearm * _down(hand)
+        pos = shoulder + _apply(frame, _apply(arc, limb))
         # At the bottom of the swing: x down (right hand) or up (left), y
         # forward, z outward.
         base = _from_axes([0.0, 0.0, side], [1.0, 0.0, 0.0], [0.0, side, 0.0])
         grip = _from_rotvec(np.radians(rng.normal(0.0, self.grip_deg, 3)))
-        rot = _compose(frame, _about("y", -theta), base, grip)
+        rot = _compose(frame, arc, _about("y", -hand), _about("z", side * twist), base, grip)
         return ModePose(pos=pos, rot=_rotation(rot), light_exposure=np.ones(len(body.t)))
 
     def _simulate(
@@ -684,17 +865,36 @@ class Dangling(CarryMode):
 @register_mode
 @dataclass(kw_only=True, frozen=True)
 class Pocketed(CarryMode):
-    """In a front trouser pocket (REALISM §6.1 pocket row, §5 hip angles)."""
+    """In a front trouser pocket (REALISM §6.1 pocket row, §5 hip angles).
+
+    The phone rides on the thigh, which turns at the hip in all three planes
+    over the gait cycle: flexion follows the hip's sagittal angle of normal gait
+    (:data:`_HIP_FLEXION`: slow extension through stance, quick flexion in
+    swing, so the pitch rate is not a sinusoid), ab-/adduction and the rotation
+    about the thigh follow at stride frequency with their own, drawn, lags
+    behind it. At the same-side heel strike the thigh stops against the ground
+    and the phone jolts along it.
+    """
 
     name: ClassVar[str] = "pocketed"
-    side: Literal["right", "left"] = "right"
-    """The pocket's side."""
+    side: Literal["right", "left"] | None = None
+    """The pocket's side; None draws it per use."""
     thigh_swing_deg: float | None = None
-    """Amplitude of the thigh's pitch at stride frequency; None draws it from
+    """Half the thigh's pitch range over the gait cycle; None draws it from
     18–23° per use (hip range 35–45° peak to peak)."""
     thigh_mean_deg: float = 5.0
     """Mean thigh flexion while walking (20–30° flexion at heel contact,
     10–20° extension late in stance)."""
+    thigh_roll_deg: tuple[float, float] = (3.3, 5.5)
+    """Range of the thigh's frontal-plane swing amplitude (6.7–11° peak to peak,
+    real pockets), drawn per use."""
+    roll_lag_deg: tuple[float, float] = (30.0, 90.0)
+    """Range of its phase lag behind the pitch over the gait cycle, drawn per use."""
+    thigh_twist_deg: tuple[float, float] = (8.5, 11.0)
+    """Range of the rotation's amplitude about the thigh (17–22° peak to peak,
+    real pockets), drawn per use."""
+    twist_lag_deg: tuple[float, float] = (0.0, 90.0)
+    """Range of its phase lag behind the pitch, drawn per use [E]."""
     top_down: bool | None = None
     """Phone inserted top first; None draws it per use."""
     screen_out: bool | None = None
@@ -702,31 +902,45 @@ class Pocketed(CarryMode):
     pocket_yaw_deg: float | None = None
     """Rotation of the phone about the thigh's axis in the pocket; None draws
     it from ±20° per use [E]."""
-    impact_mps2: tuple[float, float] = (2.0, 4.0)
-    """Range of the extra jolt along the thigh at the same-side heel strike [E]."""
+    impact_mps2: tuple[float, float] = (8.0, 18.0)
+    """Range of the jolt along the thigh at the same-side heel strike: thigh-worn
+    accelerometers read 2–5 g peaks there [E]."""
+    impact_width_s: float = 0.035
+    """Width σ of that jolt: the thigh's soft tissue and the pocket's cloth spread it [E]."""
     light_exposure_range: tuple[float, float] = (0.001, 0.005)
     """Range of the fabric's light transmission, drawn per use."""
 
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
-        h, side = body.height_m, _side(self.side)
+        which = self.side if self.side is not None else ("left", "right")[int(rng.random() < 0.5)]
+        h, side = body.height_m, _side(which)
         # The pelvis counter-rotates against the trunk at stride frequency.
         pelvis = _body_frame(2.0 * body.heading - body.yaw)
         env = body.gait_envelope
         swing = math.radians(
             self.thigh_swing_deg if self.thigh_swing_deg is not None else rng.uniform(18, 23)
         )
-        # The thigh is most flexed just before its own heel strike (stride
-        # phase 0.5 for the right leg, 0 for the left).
-        cyc = 2.0 * np.pi * (body.stride_phase - (0.45 if side < 0 else -0.05))
-        alpha = env * (math.radians(self.thigh_mean_deg) + swing * np.cos(cyc))
-        roll = env * math.radians(_HIP_ROLL_DEG) * np.sin(cyc) * side
+        # The leg's own gait cycle: 0 at its heel strike (stride phase 0 is the left one).
+        own = np.mod(body.stride_phase - (0.5 if side < 0 else 0.0), 1.0)
+        alpha = env * (math.radians(self.thigh_mean_deg) + swing * _HIP_FLEXION(own))
+        # Ab-/adduction and rotation about the thigh go through the cycle as quickly
+        # as flexion does (fast in swing), each a drawn fraction of a cycle behind it.
+        roll_lag, twist_lag = (
+            rng.uniform(*r) / 360.0 for r in (self.roll_lag_deg, self.twist_lag_deg)
+        )
+        roll_amp, twist_amp = (
+            math.radians(rng.uniform(*r)) for r in (self.thigh_roll_deg, self.thigh_twist_deg)
+        )
+        roll = env * side * roll_amp * _HIP_FLEXION(np.mod(own - roll_lag, 1.0))
+        twist = env * side * twist_amp * _HIP_FLEXION(np.mod(own - twist_lag, 1.0))
         hip = np.array([0.0, _HIP_HALF_WIDTH * h * side, (_HIP_H - PELVIS_HEIGHT_RATIO) * h])
         same_side = body.steps.foot.to_numpy() == ("R" if side < 0 else "L")
         t_hs = body.steps.t.to_numpy()[same_side]
-        jolt = impulse_displacement(body.t, t_hs, rng.uniform(*self.impact_mps2, len(t_hs)))
+        jolt = impulse_displacement(
+            body.t, t_hs, rng.uniform(*self.impact_mps2, len(t_hs)), self.impact_width_s
+        )
         local = np.empty((len(alpha), 3))
         _pocket_offset(np.sin(alpha), np.cos(alpha), hip, jolt, local)
-        pos = body.pos + _apply(pelvis, local)
+        pos = body.pos + _apply(_compose(pelvis, _about("x", roll)), local)
 
         top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)
         screen_out = self.screen_out if self.screen_out is not None else bool(rng.random() < 0.5)
@@ -740,6 +954,8 @@ class Pocketed(CarryMode):
             _about("y", 0.0 if screen_out else np.pi),
             _about("z", 0.0 if top_down else np.pi),
         )
-        rot = _compose(pelvis, _about("x", roll), _about("y", -alpha), base, placement)
+        rot = _compose(
+            pelvis, _about("x", roll), _about("y", -alpha), _about("z", twist), base, placement
+        )
         light = np.full(len(body.t), rng.uniform(*self.light_exposure_range))
         return ModePose(pos=pos, rot=_rotation(rot), light_exposure=light)

@@ -195,9 +195,22 @@ class WalkerParams:
     """Range of the lateral sway amplitude toward the stance foot (±2–3 cm)."""
     trunk_yaw_deg: tuple[float, float] = (3.0, 8.0)
     """Range of the trunk's yaw oscillation amplitude at stride frequency (±3–8°)."""
-    heel_strike_mps2: tuple[float, float] = (1.0, 2.5)
+    trunk_roll_deg: tuple[float, float] = (2.0, 4.0)
+    """Range of the trunk's sideways lean toward the stance leg at stride
+    frequency (thorax lateral flexion and pelvic obliquity, ±2–5°) [E]."""
+    heel_strike_mps2: tuple[float, float] = (1.5, 4.0)
     """Range of the vertical heel-strike transient's peak at cruising speed; on
     top of the bounce this keeps heel-strike peaks at 1.3–2 g in total."""
+    loading_width: tuple[float, float] = (0.12, 0.17)
+    """Range of the width (σ, in steps) of the vertical acceleration's peak in
+    double support, drawn per walk: 0.08–0.14 of a step puts 1.3–1.8 g peaks
+    at the trunk for a 4–5 cm bounce and 5–25 % of its vertical acceleration's
+    power in the second harmonic of the step rate, as trunk accelerometry shows
+    [E]; a wide peak (≥ 0.3) is the sinusoidal compass-gait bounce."""
+    loading_asymmetry: tuple[float, float] = (0.05, 0.2)
+    """Range of the relative difference in bounce between left and right steps,
+    drawn per walk (either leg the stronger): gait asymmetry indices of healthy
+    walkers reach 5–15 % in vertical ground reaction force [E]."""
     physics_rate_hz: float = 25.0
     """Step rate of the pymunk body simulation."""
 
@@ -224,7 +237,10 @@ class WalkerParams:
             "speed_oscillation": 0 <= self.speed_oscillation < 0.5,
             "lateral_sway_m": 0 <= self.lateral_sway_m[0] <= self.lateral_sway_m[1],
             "trunk_yaw_deg": 0 <= self.trunk_yaw_deg[0] <= self.trunk_yaw_deg[1],
+            "trunk_roll_deg": 0 <= self.trunk_roll_deg[0] <= self.trunk_roll_deg[1],
             "heel_strike_mps2": 0 <= self.heel_strike_mps2[0] <= self.heel_strike_mps2[1],
+            "loading_width": 0.03 <= self.loading_width[0] <= self.loading_width[1] <= 0.5,
+            "loading_asymmetry": 0 <= self.loading_asymmetry[0] <= self.loading_asymmetry[1] < 1,
             "physics_rate_hz": 10 <= self.physics_rate_hz <= 200,
         }
         bad = [name for name, ok in checks.items() if not ok]
@@ -242,6 +258,7 @@ class BodyTrajectory:
         pos: (K, 3) body centre (pelvis) in the building frame, metres.
         heading: (K,) walking direction, radians from +x, unwrapped.
         yaw: (K,) trunk yaw: heading plus the stride-frequency trunk rotation.
+        roll: (K,) the trunk's sideways lean toward the stance leg, rad (+ left).
         speed: (K,) horizontal speed of the body centre, m/s.
         step_phase: (K,) steps completed: an integer at each heel strike,
             increasing smoothly in between, constant while standing.
@@ -264,6 +281,7 @@ class BodyTrajectory:
     pos: NDArray[np.float64]
     heading: NDArray[np.float64]
     yaw: NDArray[np.float64]
+    roll: NDArray[np.float64]
     speed: NDArray[np.float64]
     step_phase: NDArray[np.float64]
     stride_phase: NDArray[np.float64]
@@ -394,7 +412,10 @@ def walk(
         speed_oscillation=params.speed_oscillation,
         lateral_sway_m=params.lateral_sway_m,
         trunk_yaw_deg=params.trunk_yaw_deg,
+        trunk_roll_deg=params.trunk_roll_deg,
         heel_strike_mps2=params.heel_strike_mps2,
+        loading_width=params.loading_width,
+        loading_asymmetry=params.loading_asymmetry,
         rng=rng,
     )
     fwd, lat = within.forward, within.lateral
@@ -413,6 +434,7 @@ def walk(
         pos=pos,
         heading=heading,
         yaw=heading + within.trunk_yaw,
+        roll=within.trunk_roll,
         speed=np.hypot(vel[0], vel[1]),
         step_phase=phase,
         stride_phase=stride,

@@ -4,7 +4,7 @@
 :func:`~indoorsim.walker.gait.walk` (DESIGN §5, numbers from REALISM §5),
 added analytically at ``rate_hz``: forward speed oscillation and vertical
 bounce at step frequency (lowest and fastest just after heel strike), lateral
-sway toward the stance foot and trunk yaw at stride frequency, and heel-strike
+sway and lean toward the stance foot and trunk yaw at stride frequency, and heel-strike
 transients shaped as Ricker wavelets of the acceleration (smooth, zero net
 velocity change; :func:`impulse_displacement`, which the carrying modes use
 for the phone's own jolts too). Amplitudes follow each step's length and fade
@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
 
-__all__ = ["IntraStepMotion", "impulse_displacement", "intra_step_motion"]
+__all__ = ["IntraStepMotion", "bounce_waveform", "impulse_displacement", "intra_step_motion"]
 
 _G = 9.81  # m/s²
 # Heel-strike transients peak this long after contact and last about ±3σ; σ =
@@ -33,6 +33,40 @@ _HS_DELAY_S, _HS_SIGMA_S = 0.02, 0.015
 # The vertical minimum and forward-speed maximum come just after heel strike,
 # in double support (as a fraction of a step).
 _DOUBLE_SUPPORT_PHASE = 0.1
+# Harmonics of the step rate kept in the vertical bounce's waveform: the
+# fifth of a 0.08-step-wide loading peak carries 0.2 % of its power.
+_BOUNCE_HARMONICS = 5
+
+
+def bounce_waveform(phase: NDArray[np.float64], width: float) -> NDArray[np.float64]:
+    """Vertical offset of the body centre within a step, peak to peak 1, mean 0.
+
+    The body centre's vertical acceleration peaks once per step, in double
+    support just after heel strike, when both legs carry the body and the
+    ground reaction force is highest (weight acceptance, 1.3–2 g at the trunk,
+    REALISM §5), and sags through single support. Modelled as a periodic
+    Gaussian pulse of acceleration of ``width`` (σ, in steps) centred
+    ``_DOUBLE_SUPPORT_PHASE`` after each heel strike: its k-th harmonic has
+    relative amplitude exp(−(2πk·width)²/2), so the offset, the acceleration
+    integrated twice, is the sum of those harmonics divided by k². A wide pulse
+    is the sinusoidal bounce of the compass gait; a narrow one makes the
+    impulsive, harmonic-rich ‖a‖ of real walking.
+    """
+    k = np.arange(1, _BOUNCE_HARMONICS + 1)
+    weight = np.exp(-0.5 * (2.0 * np.pi * k * width) ** 2) / k**2
+    grid = np.linspace(0.0, 1.0, 513)[:-1]
+    unit = -(weight * np.cos(2.0 * np.pi * np.outer(grid, k))).sum(axis=1)
+    scale = 1.0 / float(np.ptp(unit))
+    # cos(k·x) by the angle-addition recurrence from cos x and sin x: one pair of
+    # transcendental calls per sample instead of one per harmonic.
+    x = 2.0 * np.pi * (phase - _DOUBLE_SUPPORT_PHASE)
+    c1, s1 = np.cos(x), np.sin(x)
+    ck, sk = c1.copy(), s1.copy()
+    out = weight[0] * c1
+    for w in weight[1:]:
+        ck, sk = ck * c1 - sk * s1, sk * c1 + ck * s1
+        out += w * ck
+    return -scale * out
 
 
 class IntraStepMotion(NamedTuple):
@@ -46,6 +80,8 @@ class IntraStepMotion(NamedTuple):
     """(K,) offset from the standing pelvis height (m)."""
     trunk_yaw: NDArray[np.float64]
     """(K,) trunk rotation on top of the heading (rad)."""
+    trunk_roll: NDArray[np.float64]
+    """(K,) trunk lean toward the stance leg (rad, + to the left)."""
 
 
 def intra_step_motion(
@@ -63,7 +99,10 @@ def intra_step_motion(
     speed_oscillation: float,
     lateral_sway_m: tuple[float, float],
     trunk_yaw_deg: tuple[float, float],
+    trunk_roll_deg: tuple[float, float],
     heel_strike_mps2: tuple[float, float],
+    loading_width: tuple[float, float],
+    loading_asymmetry: tuple[float, float],
     rng: np.random.Generator,
 ) -> IntraStepMotion:
     """Bounce, forward swing, sway, trunk yaw and heel-strike jolts at the times ``t``.
@@ -83,8 +122,15 @@ def intra_step_motion(
         speed_oscillation: forward speed swing as a fraction of the speed.
         lateral_sway_m: range of the sway amplitude (drawn once per walk).
         trunk_yaw_deg: range of the trunk yaw amplitude (drawn once per walk).
+        trunk_roll_deg: range of the trunk's sideways lean amplitude (drawn once per walk).
         heel_strike_mps2: range of the heel-strike peak at cruising speed.
-        rng: draws the walk's sway, trunk yaw and heel-strike amplitudes.
+        loading_width: range of the width of the vertical acceleration's
+            weight-acceptance peak, in steps (drawn once per walk;
+            :func:`bounce_waveform`).
+        loading_asymmetry: range of the relative difference between the bounce
+            of left and right steps (drawn once per walk, either leg the stronger).
+        rng: draws the walk's sway, trunk yaw, loading width and asymmetry, and
+            the heel-strike amplitudes.
 
     Returns:
         The offsets from the macro track and the trunk yaw.
@@ -96,23 +142,30 @@ def intra_step_motion(
         _G * (step_durations / (2.0 * np.pi)) ** 2,
     )
     swing = speed_oscillation * step_lengths / (2.0 * np.pi)  # forward swing amplitude
+    # One leg loads the body harder than the other: alternate steps bounce more.
+    lopsided = rng.uniform(*loading_asymmetry) * rng.choice([-1.0, 1.0])
+    bounce = bounce * (1.0 + 0.5 * lopsided * (-1.0) ** np.arange(len(bounce)))
     amp = _per_step_curve(np.column_stack([bounce, swing]), phase)
     cyc = 2.0 * np.pi * (phase - _DOUBLE_SUPPORT_PHASE)
     sway = rng.uniform(*lateral_sway_m)
     yaw_amp = math.radians(rng.uniform(*trunk_yaw_deg))
+    roll_amp = math.radians(rng.uniform(*trunk_roll_deg))
     # Gentler impacts on slow steps (gait initiation, turns), with a little scatter.
     hs_up = (
         rng.uniform(*heel_strike_mps2)
         * np.clip(step_lengths / step_durations / cruise_mps, 0.3, 1.3)
         * rng.uniform(0.85, 1.15, len(strike_t))
     )
+    width = rng.uniform(*loading_width)
     # The heel strike jolts the pelvis up and brakes it at half that.
     jolt = impulse_displacement(t, strike_t, hs_up)
     return IntraStepMotion(
         forward=envelope * amp[:, 1] * np.sin(cyc) - 0.5 * jolt,
         lateral=envelope * sway * np.sin(2.0 * np.pi * stride),
-        up=-0.5 * envelope * amp[:, 0] * np.cos(cyc) + jolt,
+        up=envelope * amp[:, 0] * bounce_waveform(phase, width) + jolt,
         trunk_yaw=envelope * yaw_amp * np.cos(2.0 * np.pi * stride),
+        # Over the stance leg, in phase with the sway toward it.
+        trunk_roll=envelope * roll_amp * np.sin(2.0 * np.pi * stride),
     )
 
 
@@ -130,7 +183,10 @@ def _per_step_curve(values: NDArray[np.float64], phase: NDArray[np.float64]) -> 
 
 
 def impulse_displacement(
-    t: NDArray[np.float64], t_hs: NDArray[np.float64], peak: NDArray[np.float64]
+    t: NDArray[np.float64],
+    t_hs: NDArray[np.float64],
+    peak: NDArray[np.float64],
+    sigma_s: float = _HS_SIGMA_S,
 ) -> NDArray[np.float64]:
     """Displacement (m) whose acceleration is a short pulse of ``peak`` m/s² after each heel strike.
 
@@ -144,6 +200,8 @@ def impulse_displacement(
         t_hs: (N,) sorted heel-strike times, more than 0.2 s apart (so only
             the two nearest can reach a sample).
         peak: (N,) acceleration peak of each pulse.
+        sigma_s: the pulse's width σ (the soft tissue between an impact and
+            what it jolts spreads it: the pelvis ≈ 15 ms, a pocket on the thigh more).
     """
     out = np.zeros(len(t))
     if len(t_hs) == 0:
@@ -156,8 +214,8 @@ def impulse_displacement(
     last = int(np.searchsorted(t, centre[-1], "right"))
     arg_prev, arg_next = np.empty(len(t) - first), np.empty(last)
     j_prev, j_next = np.empty(len(t) - first, np.intp), np.empty(last, np.intp)
-    _pulse_exponents(t, centre, _HS_SIGMA_S, first, arg_prev, j_prev, arg_next, j_next)
-    scale = peak * _HS_SIGMA_S**2
+    _pulse_exponents(t, centre, sigma_s, first, arg_prev, j_prev, arg_next, j_next)
+    scale = peak * sigma_s**2
     _add_pulses(out, first, scale, j_prev, np.exp(arg_prev), j_next, np.exp(arg_next))
     return out
 

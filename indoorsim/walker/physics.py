@@ -13,6 +13,7 @@ Frames: building frame, metres. Nothing here is random.
 from __future__ import annotations
 
 import math
+import threading
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -23,7 +24,13 @@ from pymunk._chipmunk_cffi import lib as _CP
 if TYPE_CHECKING:
     from indoorsim.world.plan import FloorPlan
 
-__all__ = ["steer"]
+__all__ = ["PYMUNK_LOCK", "steer"]
+
+PYMUNK_LOCK = threading.RLock()
+"""Held while any pymunk space of the package lives. Pymunk objects are not
+synchronised and its C calls release the GIL; two walks simulated in threads of
+one process (a multi-threaded Dask worker) crashed in Chipmunk's space teardown.
+The physics is a few per cent of a walk, so serialising it costs little."""
 
 # Speed (m/s) at which the steering joint pulls the body back onto its planned
 # track after a wall has pushed it off, and the largest acceleration (m/s²) it
@@ -37,6 +44,14 @@ _STEER_CLEAR_M, _STEER_MIN_SKIP, _STEER_ON_TRACK_M = 0.05, 8, 1e-9
 
 
 def steer(
+    plan: FloorPlan, ref: NDArray[np.float64], dt: float, radius: float
+) -> NDArray[np.float64]:
+    """:func:`_steer` under :data:`PYMUNK_LOCK` (its space is freed before the lock is let go)."""
+    with PYMUNK_LOCK:
+        return _steer(plan, ref, dt, radius)
+
+
+def _steer(
     plan: FloorPlan, ref: NDArray[np.float64], dt: float, radius: float
 ) -> NDArray[np.float64]:
     """Drive a pymunk disc through the reference positions ``ref`` (one per ``dt``).
