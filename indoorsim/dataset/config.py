@@ -146,6 +146,14 @@ class DatasetConfig(_Strict):
     stride_samples: Annotated[int, Field(ge=1, le=100_000)] | None = None
     """IMU samples between consecutive window starts; None: ``window_samples``."""
     walker: WalkerRanges = WalkerRanges()
+    mode_params: dict[str, dict[str, Range | bool | FiniteFloat | str]] = {
+        "handheld": {"pitch_deg": Range(low=0.0, high=45.0)}
+    }
+    """Carrying-mode parameters per mode, for every stretch of that mode: a value
+    fixes the parameter, a range is drawn from per stretch. The rest keep the
+    mode's own defaults, which draw per use (grip, joints, pocket side...). The
+    default draws the held phone's screen tilt from flat (as in Han2023) to
+    texting (REALISM §6.1)."""
     walks_per_shard: Annotated[int, Field(ge=1, le=10_000)] = 4
     """Walks per shard; a shard never mixes sites, so a site's last shard may hold fewer."""
     rows_per_row_group: Annotated[int, Field(ge=1, le=1_000_000)] = 256
@@ -195,7 +203,7 @@ class DatasetConfig(_Strict):
         from indoorsim.phone.devices import UnknownDeviceError, available_devices
         from indoorsim.scenario.generate import KINDS, UnknownKindError
         from indoorsim.scenario.load import UnknownScenarioError, bundled_scenarios
-        from indoorsim.walker.modes import UnknownModeError, available_modes
+        from indoorsim.walker.modes import UnknownModeError, available_modes, mode_fields
 
         problems: list[tuple[str, str]] = []
         known_scenarios = list(bundled_scenarios())
@@ -210,6 +218,20 @@ class DatasetConfig(_Strict):
             for i, name in enumerate(names):
                 if name not in valid:
                     problems.append((f"{key}[{i}]", str(unknown(name, valid))))
+        modes = available_modes()
+        for mode, params in self.mode_params.items():
+            if mode not in modes:
+                problems.append((f"mode_params.{mode}", str(UnknownModeError(mode, modes))))
+                continue
+            fields = mode_fields(mode)
+            for name in params:
+                if name not in fields:
+                    problems.append(
+                        (
+                            f"mode_params.{mode}.{name}",
+                            f"not a parameter of {mode!r}; its parameters are {sorted(fields)}",
+                        )
+                    )
         n_bundled = round(self.sites * self.bundled_share) if bundled else 0
         if self.sites - min(n_bundled, len(bundled)) > 0 and not self.generated_kinds:
             problems.append(

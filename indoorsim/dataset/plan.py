@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from indoorsim.dataset.config import DatasetConfig
+from indoorsim.dataset.config import DatasetConfig, Range
 from indoorsim.util.seeding import generator
 from indoorsim.walker.schedule import ModeSchedule
 
@@ -40,7 +40,7 @@ __all__ = ["Plan", "ShardSpec", "SiteSpec", "WalkSpec", "make_plan", "split_site
 # Seeding phase of the data-set plan, beside indoorsim.util.seeding's WALK = 0 and
 # SURVEY = 1, so that no plan stream coincides with a walk's or a survey's.
 PLAN_PHASE = 2
-_SITES, _WALKS, _BUNDLED_ORDER = 0, 1, 2
+_SITES, _WALKS, _BUNDLED_ORDER, _MODE_PARAMS = 0, 1, 2, 3
 _MAX_SEED = 2**63 - 1
 
 
@@ -78,7 +78,8 @@ class WalkSpec:
         index: the walk's index within its site.
         device: device-profile name (its IMU rate is set to the configured rate).
         walker: :class:`~indoorsim.walker.gait.WalkerParams` fields drawn for this walker.
-        modes: the carrying-mode schedule, ``[[t_start_s, mode], ...]``.
+        modes: the carrying-mode schedule, ``[[t_start_s, mode(, params)], ...]``,
+            params being the stretch's configured mode parameters.
         route_seed: seeds the random route through the site.
         seed: the simulation's seed (:func:`indoorsim.simulate.simulate`).
     """
@@ -95,7 +96,11 @@ class WalkSpec:
     @property
     def schedule(self) -> ModeSchedule:
         """:attr:`modes` as the checked schedule the walk's simulation follows."""
-        return ModeSchedule.of([(float(t), str(m)) for t, m in self.modes])
+        entries = [
+            (float(e[0]), str(e[1]), dict(e[2])) if len(e) > 2 else (float(e[0]), str(e[1]))
+            for e in self.modes
+        ]
+        return ModeSchedule.of(entries)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -217,6 +222,13 @@ def _walk(config: DatasetConfig, site: int, j: int) -> WalkSpec:
     modes = _mode_schedule(config, np.random.default_rng(int(rng.integers(_MAX_SEED))))
     route_seed = int(rng.integers(_MAX_SEED))
     seed = int(rng.integers(_MAX_SEED))
+    # Each stretch's mode parameters from a stream of their own: configuring
+    # them moves no other draw of the walk.
+    params_rng = _rng(config.seed, _MODE_PARAMS, site, j)
+    for entry in modes:
+        drawn = _mode_params(config, entry[1], params_rng)
+        if drawn:
+            entry.append(drawn)
     return WalkSpec(
         walk_id=f"s{site:04d}-w{j:03d}",
         site=site,
@@ -227,6 +239,14 @@ def _walk(config: DatasetConfig, site: int, j: int) -> WalkSpec:
         route_seed=route_seed,
         seed=seed,
     )
+
+
+def _mode_params(config: DatasetConfig, mode: str, rng: np.random.Generator) -> dict[str, Any]:
+    """The configured parameters of one stretch in ``mode``: ranges drawn, values as given."""
+    return {
+        name: _uniform(rng, value) if isinstance(value, Range) else value
+        for name, value in config.mode_params.get(mode, {}).items()
+    }
 
 
 def _mode_schedule(config: DatasetConfig, rng: np.random.Generator) -> list[list[Any]]:

@@ -17,6 +17,7 @@ such a schedule.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
@@ -38,6 +39,7 @@ __all__ = [
     "UnknownModeError",
     "available_modes",
     "get_mode",
+    "mode_fields",
     "register_mode",
 ]
 
@@ -136,3 +138,13 @@ def get_mode(name: str) -> type[CarryMode]:
     if name not in MODES:
         raise UnknownModeError(name, sorted(MODES))
     return MODES[name]
+
+
+def mode_fields(name: str) -> set[str]:
+    """The parameters of the carrying mode called ``name`` (its dataclass fields).
+
+    Raises:
+        UnknownModeError: for an unknown name.
+    """
+    cls = get_mode(name)
+    return {f.name for f in dataclasses.fields(cls)} if dataclasses.is_dataclass(cls) else set()

@@ -24,14 +24,13 @@ Example:
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from numbers import Real
 from typing import Any, NamedTuple, TypeAlias
 
-from indoorsim.walker.modes import UnknownModeError, get_mode
+from indoorsim.walker.modes import UnknownModeError, mode_fields
 
 __all__ = ["ModeSchedule", "ScheduleEntry", "ScheduleError", "ScheduleLike"]
 
@@ -192,12 +191,11 @@ def _check(i: int, entry: ScheduleEntry, before: ScheduleEntry | None, *, named:
             f"follows {before.t_start_s:g} s)"
         )
     try:
-        cls = get_mode(name)
+        fields = mode_fields(name)
     except UnknownModeError as err:
         if named:
             raise
         raise UnknownModeError(name, err.valid, f"in schedule[{i}]") from None
-    fields = {f.name for f in dataclasses.fields(cls)} if dataclasses.is_dataclass(cls) else set()
     unknown = sorted(set(params) - fields)
     if unknown:
         raise ScheduleError(

@@ -80,7 +80,7 @@ def test_plan_is_a_pure_function_of_the_config_keyed_by_walk_identity():
     for shard in plan.shards:
         assert {w.site for w in shard.walks} == {shard.site.index}
     for walk in plan.walks:
-        times = [t for t, _ in walk.modes]
+        times = [entry[0] for entry in walk.modes]
         assert times[0] == 0 and all(b - a >= 5.0 - 1e-9 for a, b in itertools.pairwise(times))
         assert all(a[1] != b[1] for a, b in itertools.pairwise(walk.modes))
 
@@ -279,7 +279,10 @@ def test_failing_task_is_retried_then_reported_by_name(tmp_path, monkeypatch, ca
 
     # Worker threads in this process, so that the patched function is the one they run.
     monkeypatch.setattr("indoorsim.dataset.shard.simulate_walk", failing)
-    with LocalCluster(n_workers=1, processes=False, dashboard_address=None) as cluster:
+    # One thread: the walks run one at a time, as in indoorsim's own single-threaded workers.
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
         with pytest.raises(ShardFailures) as err:
             build_dataset(config, tmp_path / "data", scheduler=cluster.scheduler_address)
         assert calls.count(doomed.walks[0].walk_id) == 1 + config.retries
@@ -338,7 +341,10 @@ def test_quick_exit_is_registered_on_our_own_cluster_only():
         (names,) = client.run(plugins).values()
         assert _QuickExit.name in names
     # In-process workers of someone else's cluster: the hook would end this very process.
-    with LocalCluster(n_workers=1, processes=False, dashboard_address=None) as cluster:
+    # One thread: the walks run one at a time, as in indoorsim's own single-threaded workers.
+    with LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None
+    ) as cluster:
         with _client(None, cluster.scheduler_address) as client:
             (names,) = client.run(plugins).values()
             assert _QuickExit.name not in names
