@@ -22,7 +22,8 @@ x and y extent in metres, drawn from the kind's usual range when omitted):
   where no shops stand.
 
 Every kind builds on :mod:`.draft`, the shared floor under construction
-(:class:`~.draft.Draft`) and its helpers; what the kinds have in common is
+(:class:`~.draft.Draft`) and its helpers, and on :mod:`.cells`, the layout
+primitives (cells, wall pieces, intervals); what the kinds have in common is
 described here.
 
 How a floor is laid out: each builder tiles the footprint with axis-aligned
@@ -74,8 +75,10 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from indoorsim.scenario.generate.basement import build_basement
+from indoorsim.scenario.generate.cells import (
+    Size,
+)
 from indoorsim.scenario.generate.corridors import build_l_corridor, build_u_corridor
-from indoorsim.scenario.generate.draft import Size
 from indoorsim.scenario.generate.office import build_office
 from indoorsim.scenario.generate.open_hall import build_open_hall
 from indoorsim.scenario.schema import Scenario

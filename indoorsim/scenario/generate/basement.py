@@ -38,15 +38,17 @@ import numpy as np
 from shapely.geometry import box
 from shapely.ops import unary_union
 
-from indoorsim.scenario.generate.draft import (
+from indoorsim.scenario.generate.cells import (
     Cell,
-    Draft,
     Size,
     WallType,
     cell_at,
-    check_size,
     mm,
     snap,
+)
+from indoorsim.scenario.generate.draft import (
+    Draft,
+    check_size,
     survey_plans,
     wall_types,
 )

@@ -32,17 +32,19 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from indoorsim.scenario.generate.draft import (
+from indoorsim.scenario.generate.cells import (
     Cell,
-    Draft,
     Size,
-    check_size,
-    furnish_offices,
     mm,
     path_to,
-    radiators,
     snap,
     split_band,
+)
+from indoorsim.scenario.generate.draft import (
+    Draft,
+    check_size,
+    furnish_offices,
+    radiators,
     survey_plans,
     wall_types,
 )

@@ -1,15 +1,16 @@
 """The shared draft every building kind is built on: a tiling of cells and what is placed in it.
 
 A kind's builder (one module per kind in this package) lays out its floor as
-axis-aligned :class:`Cell` rectangles and hands them to a :class:`Draft`,
-which derives the walls from the tiling, cuts doors and windows, stands
-pillars and beams on the structural grid, places lights, access points, steel
-and furniture, records routes, and finally assembles and validates the
-:class:`~indoorsim.scenario.schema.Scenario` (:meth:`Draft.finish`). The
-helpers below are what the kinds share besides the draft: millimetre
-rounding and the 300 mm module (:func:`mm`, :func:`snap`), splitting a band
-of rooms at bay lines, one building's wall construction, size checks,
-office furniture, radiators and the papers' survey plans.
+axis-aligned :class:`~indoorsim.scenario.generate.cells.Cell` rectangles and
+hands them to a :class:`Draft`, which derives the walls from the tiling, cuts
+doors and windows, stands pillars and beams on the structural grid, places
+lights, access points, steel and furniture, records routes, and finally
+assembles and validates the :class:`~indoorsim.scenario.schema.Scenario`
+(:meth:`Draft.finish`). The helpers at the end are what the kinds share
+besides the draft: one building's wall construction, size checks, office
+furniture, radiators and the papers' survey plans. The layout primitives
+themselves (cells, wall pieces, intervals, rounding) are in
+:mod:`~indoorsim.scenario.generate.cells`.
 
 Sourced figures: the sites are REALISM §2.1's, the luminaire types REALISM
 §3.2's, the wall materials REALISM §4.2's, and the BSSIDs locally
@@ -21,28 +22,35 @@ the package docstring.
 from __future__ import annotations
 
 import datetime
-import itertools
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from shapely.geometry import LineString, Point, Polygon, box
+from shapely.geometry import LineString, Point, Polygon
 from shapely.ops import unary_union
 
+from indoorsim.scenario.generate.cells import (
+    NEAR_M,
+    PUBLIC_KINDS,
+    Cell,
+    Door,
+    Piece,
+    Size,
+    WallType,
+    boundary_pieces,
+    box_distance,
+    cell_at,
+    closer_than,
+    merge_intervals,
+    mm,
+    snap,
+    subtract_intervals,
+    wall_class,
+)
 from indoorsim.scenario.load import parse_scenario
 from indoorsim.scenario.schema import Scenario
-
-Size = tuple[float, float]
-"""A footprint's x and y extent, m."""
-
-# Circulation spaces: open to each other, no wall between two of them.
-_PUBLIC = frozenset({"corridor", "hall", "garage"})
-# Spaces enclosed by reinforced-concrete core walls.
-_CORE = frozenset({"stair", "shaft", "plant", "ramp"})
-# Probe distance off a cell boundary when asking which cell lies on each side.
-_EPS = 1e-3
 
 # Sites the generated buildings stand at (REALISM §2.1 table): the Earth field
 # differs in strength and inclination between them.
@@ -52,94 +60,6 @@ _SITES = (
     ("Shanghai", 31.23, 121.47),
     ("Beijing", 39.90, 116.40),
 )
-
-
-def mm(v: float) -> float:
-    """Round to the millimetre: keeps the YAML readable; floats still round-trip exactly."""
-    return round(float(v), 3)
-
-
-def snap(v: float, step: float = 0.3) -> float:
-    """Snap to the 300 mm building module used for bays, depths and widths."""
-    return mm(round(v / step) * step)
-
-
-# --------------------------------------------------------------------------- layout primitives
-
-
-@dataclass(frozen=True, kw_only=True)
-class Cell:
-    """One axis-aligned rectangle of the tiling; cells sharing ``name`` form one space."""
-
-    name: str
-    kind: str
-    x0: float
-    y0: float
-    x1: float
-    y1: float
-
-    def contains(self, x: float, y: float) -> bool:
-        """Whether (x, y) lies strictly inside the rectangle."""
-        return self.x0 < x < self.x1 and self.y0 < y < self.y1
-
-    @property
-    def width(self) -> float:
-        """Extent along x, m."""
-        return self.x1 - self.x0
-
-    @property
-    def depth(self) -> float:
-        """Extent along y, m."""
-        return self.y1 - self.y0
-
-    @property
-    def center(self) -> tuple[float, float]:
-        """The rectangle's centre (x, y)."""
-        return ((self.x0 + self.x1) / 2, (self.y0 + self.y1) / 2)
-
-    def polygon(self, inset: float = 0.0) -> Polygon:
-        """The rectangle shrunk by ``inset`` on every side (grown when negative)."""
-        return box(self.x0 + inset, self.y0 + inset, self.x1 - inset, self.y1 - inset)
-
-
-@dataclass(frozen=True, kw_only=True)
-class _Piece:
-    """An elementary stretch of cell boundary between two different spaces.
-
-    Horizontal pieces lie on y = ``coord`` from x = ``lo`` to ``hi``; ``neg`` is
-    the cell below and ``pos`` the cell above. Vertical pieces lie on
-    x = ``coord``; ``neg`` is left and ``pos`` right. ``None`` is outside.
-    """
-
-    horizontal: bool
-    coord: float
-    lo: float
-    hi: float
-    neg: Cell | None
-    pos: Cell | None
-
-
-@dataclass(frozen=True, kw_only=True)
-class WallType:
-    """How one class of wall is built: thickness (m) and material."""
-
-    thickness: float
-    material: str
-
-
-@dataclass(frozen=True, kw_only=True)
-class Door:
-    """A doorway into ``room``; ``normal`` points from circulation into the room."""
-
-    x: float
-    y: float
-    width: float
-    normal: tuple[float, float]
-    room: Cell
-
-    def offset(self, distance: float) -> tuple[float, float]:
-        """A point ``distance`` metres into the room (negative: out into circulation)."""
-        return (self.x + self.normal[0] * distance, self.y + self.normal[1] * distance)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -155,158 +75,6 @@ _FIXTURES = {
     "panel": _Fixture(intensity_cd=(1500.0, 1800.0), exponent=(2.4, 2.75)),
     "downlight": _Fixture(intensity_cd=(900.0, 1400.0), exponent=(1.5, 2.0)),
 }
-
-
-def cell_at(cells: Sequence[Cell], x: float, y: float) -> Cell | None:
-    """The cell whose interior holds (x, y); None on a boundary or outside."""
-    for c in cells:
-        if c.contains(x, y):
-            return c
-    return None
-
-
-def _same_space(a: Cell | None, b: Cell | None) -> bool:
-    if a is None or b is None:
-        return a is b
-    return a.name == b.name or (a.kind in _PUBLIC and b.kind in _PUBLIC)
-
-
-def _wall_class(a: Cell | None, b: Cell | None) -> str:
-    """Which kind of wall separates two different spaces."""
-    if a is None or b is None:
-        inside = a or b
-        assert inside is not None
-        # A hall meets the outside through a glass facade (mall entrance).
-        return "curtain" if inside.kind == "hall" else "exterior"
-    kinds = {a.kind, b.kind}
-    if kinds & _CORE:
-        return "core"
-    if "shop" in kinds and kinds & _PUBLIC:
-        return "shopfront"
-    if kinds & _PUBLIC:
-        return "corridor"
-    return "partition"
-
-
-def _boundary_pieces(cells: Sequence[Cell]) -> list[_Piece]:
-    """Every elementary boundary stretch between two different spaces.
-
-    Scanning the grid of all cell edges keeps this exact: pieces meet at shared
-    float coordinates, so contiguous pieces merge into whole walls.
-    """
-    xs = sorted({v for c in cells for v in (c.x0, c.x1)})
-    ys = sorted({v for c in cells for v in (c.y0, c.y1)})
-    pieces = []
-    for horizontal, lines, stops in ((True, ys, xs), (False, xs, ys)):
-        for coord in lines:
-            for lo, hi in itertools.pairwise(stops):
-                t = (lo + hi) / 2
-                if horizontal:
-                    neg, pos = cell_at(cells, t, coord - _EPS), cell_at(cells, t, coord + _EPS)
-                else:
-                    neg, pos = cell_at(cells, coord - _EPS, t), cell_at(cells, coord + _EPS, t)
-                if not _same_space(neg, pos):
-                    pieces.append(
-                        _Piece(horizontal=horizontal, coord=coord, lo=lo, hi=hi, neg=neg, pos=pos)
-                    )
-    return pieces
-
-
-# Box distances this close to a threshold are left to GEOS, whose rounding
-# decides the comparison (the closed form agrees with it to ~1e-14 m).
-_DISTANCE_TIE_M = 1e-9
-# Margin for leaving out boxes that cannot come within a threshold: far above
-# any rounding difference.
-_NEAR_M = 1e-6
-
-_Bounds = Sequence[float]  # (xmin, ymin, xmax, ymax) of an axis-aligned box
-
-
-def _box_distance(a: _Bounds, b: _Bounds) -> float:
-    """Distance between two axis-aligned boxes, in closed form."""
-    dx = max(b[0] - a[2], a[0] - b[2], 0.0)
-    dy = max(b[1] - a[3], a[1] - b[3], 0.0)
-    return math.hypot(dx, dy)
-
-
-def _closer_than(bounds: _Bounds, others: Sequence[_Bounds], gap: float) -> bool:
-    """``any(box(*bounds).distance(box(*o)) < gap for o in others)``, in closed form
-    except where GEOS's rounding could decide it."""
-    for o in others:
-        dist = _box_distance(bounds, o)
-        if abs(dist - gap) <= _DISTANCE_TIE_M:
-            dist = shapely.box(*bounds).distance(shapely.box(*o))
-        if dist < gap:
-            return True
-    return False
-
-
-def _merge_intervals(intervals: Iterable[tuple[float, float]]) -> list[tuple[float, float]]:
-    """Join touching intervals (shared end points are exact, see :func:`_boundary_pieces`)."""
-    out: list[tuple[float, float]] = []
-    for lo, hi in sorted(intervals):
-        if out and lo <= out[-1][1] + 1e-9:
-            out[-1] = (out[-1][0], max(out[-1][1], hi))
-        else:
-            out.append((lo, hi))
-    return out
-
-
-def _subtract(
-    interval: tuple[float, float], holes: Iterable[tuple[float, float]]
-) -> list[tuple[float, float]]:
-    """The parts of ``interval`` outside every hole."""
-    parts = [interval]
-    for h0, h1 in holes:
-        nxt = []
-        for a, b in parts:
-            if h1 <= a or h0 >= b:
-                nxt.append((a, b))
-                continue
-            if h0 > a:
-                nxt.append((a, h0))
-            if h1 < b:
-                nxt.append((h1, b))
-        parts = nxt
-    return parts
-
-
-def split_band(
-    lo: float,
-    hi: float,
-    bay_lines: Sequence[float],
-    rng: np.random.Generator,
-    min_room: float = 2.7,
-) -> list[tuple[float, float]]:
-    """Split a band of rooms at structural bay lines: one room per bay, or half a
-    bay (cellular offices), or two bays merged (open-plan room, classroom)."""
-    lines = [lo, *[b for b in bay_lines if lo + min_room <= b <= hi - min_room], hi]
-    rooms: list[tuple[float, float]] = []
-    i = 0
-    while i < len(lines) - 1:
-        a, b = lines[i], lines[i + 1]
-        u = rng.random()
-        if u < 0.2 and i + 2 < len(lines):
-            rooms.append((a, lines[i + 2]))
-            i += 2
-            continue
-        if u < 0.5 and (b - a) / 2 >= min_room:
-            mid = snap((a + b) / 2)
-            rooms += [(a, mid), (mid, b)]
-        else:
-            rooms.append((a, b))
-        i += 1
-    return rooms
-
-
-def path_to(
-    polyline: Sequence[tuple[float, float]], target: tuple[float, float]
-) -> list[tuple[float, float]]:
-    """Walk ``polyline`` up to its leg nearest ``target``, then to ``target``."""
-    legs = [
-        LineString(polyline[i : i + 2]).distance(Point(target)) for i in range(len(polyline) - 1)
-    ]
-    return [*polyline[: int(np.argmin(legs)) + 1], target]
 
 
 def _induced_direction(latitude: float, north_deg: float) -> np.ndarray:
@@ -346,7 +114,7 @@ class Draft:
         }
         self._induced = _induced_direction(lat, self.site["north_deg"])
         self.cells: list[Cell] = []
-        self.pieces: list[_Piece] = []
+        self.pieces: list[Piece] = []
         self.walls: list[dict] = []
         self.doors: list[dict] = []
         self.placed_doors: list[Door] = []
@@ -370,15 +138,15 @@ class Draft:
     def build_walls(self, cells: Sequence[Cell]) -> None:
         """Fix the tiling and derive the walls from it."""
         self.cells = list(cells)
-        self.pieces = _boundary_pieces(self.cells)
+        self.pieces = boundary_pieces(self.cells)
         runs: dict[tuple[bool, float, str], list[tuple[float, float]]] = {}
         for p in self.pieces:
-            runs.setdefault((p.horizontal, p.coord, _wall_class(p.neg, p.pos)), []).append(
+            runs.setdefault((p.horizontal, p.coord, wall_class(p.neg, p.pos)), []).append(
                 (p.lo, p.hi)
             )
         for (horizontal, coord, cls), intervals in sorted(runs.items()):
             wt = self.wall_types[cls]
-            for lo, hi in _merge_intervals(intervals):
+            for lo, hi in merge_intervals(intervals):
                 a = (lo, coord) if horizontal else (coord, lo)
                 b = (hi, coord) if horizontal else (coord, hi)
                 self.walls.append(
@@ -458,12 +226,12 @@ class Draft:
         found: dict[tuple[bool, float, float], list[tuple[float, float]]] = {}
         for p in self.pieces:
             for here, there, sign in ((p.pos, p.neg, 1.0), (p.neg, p.pos, -1.0)):
-                if here is room and there is not None and there.kind in _PUBLIC:
+                if here is room and there is not None and there.kind in PUBLIC_KINDS:
                     found.setdefault((p.horizontal, p.coord, sign), []).append((p.lo, p.hi))
         out = [
             (horizontal, coord, lo, hi, sign)
             for (horizontal, coord, sign), iv in found.items()
-            for lo, hi in _merge_intervals(iv)
+            for lo, hi in merge_intervals(iv)
         ]
         return sorted(out, key=lambda f: (-(f[3] - f[2]), f[0], f[1]))
 
@@ -475,7 +243,7 @@ class Draft:
         if lo + end > hi - end:
             return []
         holes = [(a - width / 2, b + width / 2) for a, b in self._pillar_holes(horizontal, coord)]
-        return [(a, b) for a, b in _subtract((lo + end, hi - end), holes) if b >= a]
+        return [(a, b) for a, b in subtract_intervals((lo + end, hi - end), holes) if b >= a]
 
     def add_doors(
         self,
@@ -501,7 +269,9 @@ class Draft:
             if facing is not None and normal != facing:
                 continue
             if wide:
-                free = _subtract((lo + 0.3, hi - 0.3), self._pillar_holes(horizontal, coord))
+                free = subtract_intervals(
+                    (lo + 0.3, hi - 0.3), self._pillar_holes(horizontal, coord)
+                )
                 a, b = max(free, key=lambda ab: ab[1] - ab[0], default=(0.0, 0.0))
                 width = mm(min(width, b - a - 0.2))
                 if width < 1.2:
@@ -558,8 +328,10 @@ class Draft:
                     spans.setdefault((p.horizontal, p.coord, sign), []).append((p.lo, p.hi))
         centres = []
         for (horizontal, coord, sign), iv in sorted(spans.items()):
-            for lo, hi in _merge_intervals(iv):
-                for a, b in _subtract((lo + 0.5, hi - 0.5), self._pillar_holes(horizontal, coord)):
+            for lo, hi in merge_intervals(iv):
+                for a, b in subtract_intervals(
+                    (lo + 0.5, hi - 0.5), self._pillar_holes(horizontal, coord)
+                ):
                     a, b = a + 0.35, b - 0.35
                     if b - a < 1.0:
                         continue
@@ -731,7 +503,7 @@ class Draft:
         self.beam_lines = [
             (horizontal, coord, mm(lo), mm(hi))
             for (horizontal, coord), iv in sorted(found.items())
-            for lo, hi in _merge_intervals(iv)
+            for lo, hi in merge_intervals(iv)
         ]
 
     def magnetic(self, *, beam_m3_per_m: float, slab_m3_per_m2: float = 0.003) -> dict:
@@ -817,12 +589,12 @@ class Draft:
         placed = [
             b
             for b in shapely.bounds(self.obstacle_shapes).reshape(-1, 4).tolist()
-            if _box_distance(b, (x0, y0, x1, y1)) < gap + _NEAR_M
+            if box_distance(b, (x0, y0, x1, y1)) < gap + NEAR_M
         ]
         pillars = [
             b
             for b in ((px - h, py - h, px + h, py + h) for px, py, h in self.pillars)
-            if _box_distance(b, (x0, y0, x1, y1)) < 0.1 + _NEAR_M
+            if box_distance(b, (x0, y0, x1, y1)) < 0.1 + NEAR_M
         ]
         for _ in range(count):
             for _attempt in range(40):
@@ -853,12 +625,12 @@ class Draft:
                 bounds = (cx - w / 2, cy - d / 2, cx + w / 2, cy + d / 2)
                 # Everything here is an axis-aligned box except ``keep``: "clear
                 # contains shape" is a comparison of bounds, distances are closed
-                # form (see _closer_than), and only the keep-clear area needs GEOS.
+                # form (see closer_than), and only the keep-clear area needs GEOS.
                 inside = x0 <= bounds[0] and bounds[2] <= x1 and y0 <= bounds[1] and bounds[3] <= y1
                 if (
                     not inside
-                    or _closer_than(bounds, placed, gap)
-                    or _closer_than(bounds, pillars, 0.1)
+                    or closer_than(bounds, placed, gap)
+                    or closer_than(bounds, pillars, 0.1)
                     or keep.intersects(shapely.box(*bounds))
                 ):
                     continue

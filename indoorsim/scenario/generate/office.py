@@ -33,16 +33,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from indoorsim.scenario.generate.draft import (
+from indoorsim.scenario.generate.cells import (
     Cell,
-    Draft,
     Size,
-    check_size,
-    furnish_offices,
     mm,
-    radiators,
     snap,
     split_band,
+)
+from indoorsim.scenario.generate.draft import (
+    Draft,
+    check_size,
+    furnish_offices,
+    radiators,
     survey_plans,
     wall_types,
 )

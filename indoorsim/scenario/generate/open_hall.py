@@ -36,16 +36,18 @@ import numpy as np
 from shapely.geometry import LineString, Point, box
 from shapely.ops import unary_union
 
-from indoorsim.scenario.generate.draft import (
+from indoorsim.scenario.generate.cells import (
     Cell,
-    Draft,
     Size,
     WallType,
-    check_size,
     mm,
     path_to,
     snap,
     split_band,
+)
+from indoorsim.scenario.generate.draft import (
+    Draft,
+    check_size,
     survey_plans,
     wall_types,
 )
