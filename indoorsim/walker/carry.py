@@ -101,9 +101,11 @@ _ARM_LENGTH = 0.386  # shoulder to the middle of the grip
 _SHOULDER_HALF_WIDTH = 0.115
 _HIP_HALF_WIDTH = 0.055
 # Where the phone sits in a front trouser pocket: along the thigh from the hip
-# joint, and in front of the thigh's axis (m) [E]; and the hip's sideways
-# rocking (ab-/adduction) amplitude (°) [E].
+# joint, and off the thigh's axis (m) [E].
 _POCKET_ALONG_M, _POCKET_FRONT_M = 0.15, 0.07
+# A phone as the pocket holds it: a plate of this length and width, its centre
+# of mass this far off the thigh's surface (half a phone's thickness) (m).
+_PHONE_LENGTH_M, _PHONE_WIDTH_M, _POCKET_LEVER_M = 0.15, 0.072, 0.004
 
 
 def _hip_flexion() -> CubicSpline:
@@ -486,20 +488,23 @@ def _gaussian_smooth(x: NDArray[np.float64], sigma: float) -> NDArray[np.float64
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _pocket_offset(sin_a, cos_a, hip, jolt, out):  # pragma: no cover - compiled
-    """The phone's place in the pelvis frame, the thigh flexed by α (sin_a, cos_a):
-    hip + along·thigh + front·(thigh's forward normal), less the jolt along the thigh.
-
-    One pass over the samples, with the arithmetic (zero components included)
-    of the numpy expression over stacked (K, 3) axis arrays it replaces.
+def _pocket_offset(
+    sin_a, cos_a, sin_b, cos_b, hip, jolt, shear, out
+):  # pragma: no cover - compiled
+    """The phone's place in the pelvis frame, the thigh flexed by α (sin_a, cos_a)
+    and the pocket β round the thigh from its front toward +y (sin_b, cos_b):
+    hip + along·thigh + front·(cos β·forward normal + sin β·lateral), less the
+    jolt along the thigh and ``shear`` times it across the thigh's face. One pass
+    over the samples.
     """
     for k in range(out.shape[0]):
         s, c, j = sin_a[k], cos_a[k], jolt[k]
         thigh = (s, 0.0, -c)
-        front = (c, 0.0, s)
+        normal = (c * cos_b[k], sin_b[k], s * cos_b[k])
         for i in range(3):
-            v = hip[i] + _POCKET_ALONG_M * thigh[i] + _POCKET_FRONT_M * front[i]
-            out[k, i] = v - j * thigh[i]  # the jolt drives the phone up along the thigh
+            v = hip[i] + _POCKET_ALONG_M * thigh[i] + _POCKET_FRONT_M * normal[i]
+            # The jolt drives the phone up along the thigh and shakes the flesh under it.
+            out[k, i] = v - j * (thigh[i] + shear * normal[i])
 
 
 def _side(which: str) -> float:
@@ -726,8 +731,9 @@ class Dangling(CarryMode):
     The forearm hangs from the elbow, held by muscle like a damped spring
     (:func:`_oscillator`): the upper arm's swing whips it on (the linearised
     double pendulum), so the hand swings further and faster than the shoulder,
-    and it pronates as the arm swings back and supinates forward. The phone is
-    gripped with its top forward and its screen facing outward.
+    and it pronates as the arm swings back and supinates forward. The hand
+    hangs from the wrist in the same way, whipped on by the forearm. The phone
+    is gripped with its top forward and its screen facing outward.
     """
 
     name: ClassVar[str] = "dangling"
@@ -743,18 +749,30 @@ class Dangling(CarryMode):
     """Shoulder muscle stiffness, raising the arm's natural frequency to ≈ 0.8 Hz [E]."""
     physics_rate_hz: float = 30.0
     """Step rate of the pymunk pendulum (upsampled with a C² spline)."""
-    elbow_natural_hz: tuple[float, float] = (1.1, 1.6)
+    elbow_natural_hz: tuple[float, float] = (1.5, 1.9)
     """Range of the hanging forearm's natural frequency about the elbow (its
-    gravity pendulum, ≈ 1 Hz, stiffened by muscle tone), drawn per use [E]."""
+    gravity pendulum, ≈ 1 Hz, stiffened by muscle tone), drawn per use: the
+    elbow then flexes and extends 20–40° peak to peak with the swing, as
+    measured in normal gait (29.7 ± 10.2°, Kang et al., Clin Shoulder Elb
+    26:126, 2023); below 1.5 Hz the follow-through resonates past 50° [E]."""
     elbow_damping: tuple[float, float] = (0.2, 0.4)
     """Range of the elbow's damping ratio, drawn per use [E]."""
-    twist_deg: tuple[float, float] = (20.0, 35.0)
-    """Range of the forearm's pronation–supination with the swing, drawn per use [E]."""
+    twist_deg: tuple[float, float] = (5.5, 8.5)
+    """Range of the forearm's pronation–supination amplitude with the swing, drawn
+    per use: 11–17° peak to peak (14.2 ± 3.2° measured in normal gait, Kang et
+    al. 2023)."""
     arc_deg: tuple[float, float] = (5.0, 12.0)
     """Range of the arm's sideways swing, toward the midline forward and out behind
     (the hand's arc crosses in front of the thigh), drawn per use [E]."""
 
+    wrist_natural_hz: tuple[float, float] = (2.5, 3.5)
+    """Range of the hand's natural frequency about the wrist (a short, light
+    pendulum held by the wrist's flexors and extensors), drawn per use [E]."""
+    wrist_damping: tuple[float, float] = (0.2, 0.4)
+    """Range of the wrist's damping ratio, drawn per use [E]."""
+
     _UPPER_ARM: ClassVar[float] = 0.186  # shoulder to elbow, of body height (Drillis & Contini)
+    _HAND_COM: ClassVar[float] = 0.05  # wrist to the centre of hand and phone, of body height
     _ROD_KG: ClassVar[float] = 3.0
     _HAND_KG: ClassVar[float] = 0.6
 
@@ -779,17 +797,29 @@ class Dangling(CarryMode):
             rng.uniform(*self.elbow_damping),
             body.rate_hz,
         )
-        hand = theta + flex
+        arm = theta + flex
+        # The hand (with the phone) about the wrist: the forearm's angular
+        # acceleration drives it the same way, the grip's centre of mass a
+        # short lever beyond the wrist.
+        grip_lever = self._HAND_COM * h
+        wrist = _oscillator(
+            -(1.0 + (forearm - grip_lever) / grip_lever)
+            * np.gradient(np.gradient(arm, body.t), body.t),
+            rng.uniform(*self.wrist_natural_hz),
+            rng.uniform(*self.wrist_damping),
+            body.rate_hz,
+        )
+        hand = arm + wrist
 
         def _down(angle: NDArray[np.float64]) -> NDArray[np.float64]:
             return np.column_stack([np.sin(angle), np.zeros_like(angle), -np.cos(angle)])
 
-        # The forearm turns and arcs with its own swing (the hand's angle), so the
-        # three rotations keep in step: −1 back … +1 forward at a full swing.
-        phase = hand / max(float(np.percentile(np.abs(hand), 98)), 1e-9)
+        # The forearm turns and arcs with its own swing, so the three rotations
+        # keep in step: −1 back … +1 forward at a full swing.
+        phase = arm / max(float(np.percentile(np.abs(arm), 98)), 1e-9)
         twist = math.radians(rng.uniform(*self.twist_deg)) * phase
         arc = _about("x", side * math.radians(rng.uniform(*self.arc_deg)) * phase)
-        limb = upper * _down(theta) + forearm * _down(hand)
+        limb = upper * _down(theta) + (forearm - grip_lever) * _down(arm) + grip_lever * _down(hand)
         pos = shoulder + _apply(frame, _apply(arc, limb))
         # At the bottom of the swing: x down (right hand) or up (left), y
         # forward, z outward.
@@ -874,6 +904,14 @@ class Pocketed(CarryMode):
     about the thigh follow at stride frequency with their own, drawn, lags
     behind it. At the same-side heel strike the thigh stops against the ground
     and the phone jolts along it.
+
+    The pocket lies on the front-outer face of the thigh (``pocket_yaw_deg``
+    round it from the front), and the phone in it is a plate held at its deep
+    end by the pocket's bottom and against the thigh by the cloth: it rocks on
+    that hold, in its own plane and away from the thigh, as a damped spring
+    (:func:`_oscillator`, ``wobble_hz``) under the inertial load of the thigh's
+    acceleration and gravity on its centre of mass — heel strikes ring it, the
+    swing's tangential acceleration tips it.
     """
 
     name: ClassVar[str] = "pocketed"
@@ -900,11 +938,24 @@ class Pocketed(CarryMode):
     screen_out: bool | None = None
     """Screen facing away from the thigh; None draws it per use."""
     pocket_yaw_deg: float | None = None
-    """Rotation of the phone about the thigh's axis in the pocket; None draws
-    it from ±20° per use [E]."""
+    """How far round the thigh, from its front toward the outside, the pocket
+    and the phone lie; None draws it from 10–40° per use (a front pocket's
+    opening is on the front-outer face) [E]."""
+    slant_deg: float | None = None
+    """The phone's long axis against the thigh's, in the pocket's plane; None
+    draws it from ±(0–20°) per use [E]."""
+    wobble_hz: tuple[float, float] = (6.0, 10.0)
+    """Range of the natural frequency of the phone rocking on the pocket's hold
+    (cloth tension and the thigh's soft tissue), drawn per use [E]."""
+    wobble_damping: tuple[float, float] = (0.2, 0.4)
+    """Range of that rocking's damping ratio, drawn per use [E]."""
     impact_mps2: tuple[float, float] = (8.0, 18.0)
     """Range of the jolt along the thigh at the same-side heel strike: thigh-worn
     accelerometers read 2–5 g peaks there [E]."""
+    impact_shear: tuple[float, float] = (0.3, 0.6)
+    """Range of the jolt across the thigh's front face, as a share of the jolt
+    along it: the braking at heel contact and the quadriceps' soft tissue
+    shaking under the phone [E]."""
     impact_width_s: float = 0.035
     """Width σ of that jolt: the thigh's soft tissue and the pocket's cloth spread it [E]."""
     light_exposure_range: tuple[float, float] = (0.001, 0.005)
@@ -938,24 +989,75 @@ class Pocketed(CarryMode):
         jolt = impulse_displacement(
             body.t, t_hs, rng.uniform(*self.impact_mps2, len(t_hs)), self.impact_width_s
         )
+        pocket_yaw = math.radians(
+            self.pocket_yaw_deg if self.pocket_yaw_deg is not None else rng.uniform(10, 40)
+        )
+        # Round the thigh toward the outside (+y on the left leg), and with its twist.
+        around = side * pocket_yaw + twist
+        shear = rng.uniform(*self.impact_shear)
         local = np.empty((len(alpha), 3))
-        _pocket_offset(np.sin(alpha), np.cos(alpha), hip, jolt, local)
-        pos = body.pos + _apply(_compose(pelvis, _about("x", roll)), local)
+        _pocket_offset(
+            np.sin(alpha), np.cos(alpha), np.sin(around), np.cos(around), hip, jolt, shear, local
+        )
+        rigid_pos = body.pos + _apply(_compose(pelvis, _about("x", roll)), local)
 
         top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)
         screen_out = self.screen_out if self.screen_out is not None else bool(rng.random() < 0.5)
-        pocket_yaw = math.radians(
-            self.pocket_yaw_deg if self.pocket_yaw_deg is not None else rng.uniform(-20, 20)
+        slant = math.radians(
+            self.slant_deg
+            if self.slant_deg is not None
+            else rng.choice((-1.0, 1.0)) * rng.uniform(0.0, 20.0)
         )
         # Standing, top down, screen out: x right, y down, z forward.
         base = _from_axes([0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0])
         placement = _compose(
-            _about("y", pocket_yaw),
+            _about("y", -side * pocket_yaw),  # base y is down the thigh
+            _about("z", slant),
             _about("y", 0.0 if screen_out else np.pi),
             _about("z", 0.0 if top_down else np.pi),
         )
-        rot = _compose(
+        rigid = _compose(
             pelvis, _about("x", roll), _about("y", -alpha), _about("z", twist), base, placement
         )
+        wobble, shift = self._wobble(body, rigid_pos, rigid, top_down, screen_out, rng)
+        pos = rigid_pos + _apply(rigid, shift)
+        rot = _compose(rigid, wobble)
         light = np.full(len(body.t), rng.uniform(*self.light_exposure_range))
         return ModePose(pos=pos, rot=_rotation(rot), light_exposure=light)
+
+    def _wobble(
+        self,
+        body: BodyTrajectory,
+        pos: NDArray[np.float64],
+        rot: Quat,
+        top_down: bool,
+        screen_out: bool,
+        rng: np.random.Generator,
+    ) -> tuple[Quat, NDArray[np.float64]]:
+        """The phone's rocking on the pocket's hold, and its centre's shift with it.
+
+        In the phone's frame the hold is at its deep end, its centre of mass r =
+        (0, ∓L/2, ±d) from there; the load per unit mass is −f, f the specific
+        force of the rigidly carried phone, so the torque is −m·r × f. Each
+        rocking axis is a damped spring of inertia about the hold I = m·(L²/3 +
+        W²/12) in the phone's plane (z) and m·L²/3 away from the thigh (x); the
+        rocking about the long axis (y) the cloth stops. Returns the rotation
+        and the centre's displacement (R(θ) − 1)·r, both in the phone's frame.
+        """
+        f = _acceleration(pos, body.t)
+        f[:, 2] += _G
+        f_phone = quat_ops.rotate(rot, f, inverse=True)
+        half = _PHONE_LENGTH_M / 2.0
+        r = np.array(
+            [0.0, -half if top_down else half, _POCKET_LEVER_M if screen_out else -_POCKET_LEVER_M]
+        )
+        torque = -np.cross(r, f_phone)  # per unit mass
+        inertia = np.array(
+            [_PHONE_LENGTH_M**2 / 3.0, 1.0, _PHONE_LENGTH_M**2 / 3.0 + _PHONE_WIDTH_M**2 / 12.0]
+        )
+        natural, damping = rng.uniform(*self.wobble_hz), rng.uniform(*self.wobble_damping)
+        theta = _oscillator(torque / inertia, natural, damping, body.rate_hz)
+        theta[:, 1] = 0.0
+        wobble = _from_rotvec(theta)
+        shift = _apply(wobble, np.broadcast_to(r, theta.shape)) - r
+        return wobble, shift

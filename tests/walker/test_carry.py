@@ -55,11 +55,14 @@ def test_phone_stays_inside_and_its_pose_is_continuous(l_plan, l_body, schedule)
     assert phone.quat[0, 0] >= 0
     assert (np.einsum("ij,ij->i", phone.quat[1:], phone.quat[:-1]) > 0).all()
     rates = _rates_dps(phone)
-    assert np.isfinite(rates).all() and rates.max() < 500.0
+    # A swinging hand's gyro RMS is 3–4 rad/s on its largest axis in real walks
+    # (issue "Motion realism"), 170–230 °/s, and its swing peaks some 3 times
+    # that; a phone's gyro reads ±2000 °/s.
+    assert np.isfinite(rates).all() and rates.max() < 800.0
     # No jumps: the phone moves less than 2 cm (a swinging hand peaks near 3–3.5 m/s)
-    # and turns less than 2.5° per sample.
+    # and turns less than 4° per sample.
     assert np.linalg.norm(np.diff(phone.pos, axis=0), axis=1).max() < 0.02
-    assert rates.max() / l_body.rate_hz < 2.5
+    assert rates.max() / l_body.rate_hz < 4.0
     acc = np.diff(phone.pos, 2, axis=0) * l_body.rate_hz**2
     assert np.linalg.norm(acc, axis=1).max() < 3 * 9.81
     assert ((phone.light_exposure >= 0) & (phone.light_exposure <= 1)).all()

@@ -1,6 +1,6 @@
 """Simulated beside real: the realism table of ``leaderboards/realism.md``.
 
-:func:`simulated_motion_table` walks every carrying mode over bundled and
+:func:`simulate_motion` walks every carrying mode over bundled and
 generated sites and seeds and measures each walk with the same
 :func:`~indoorsim.benchmark.realism.motion.motion_statistics` as the real logs;
 :func:`compare` puts each (mode, statistic) beside its real range and says,
