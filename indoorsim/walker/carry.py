@@ -749,12 +749,12 @@ class Dangling(CarryMode):
     """Shoulder muscle stiffness, raising the arm's natural frequency to ≈ 0.8 Hz [E]."""
     physics_rate_hz: float = 30.0
     """Step rate of the pymunk pendulum (upsampled with a C² spline)."""
-    elbow_natural_hz: tuple[float, float] = (1.5, 1.9)
+    elbow_natural_hz: tuple[float, float] = (1.35, 1.9)
     """Range of the hanging forearm's natural frequency about the elbow (its
-    gravity pendulum, ≈ 1 Hz, stiffened by muscle tone), drawn per use: the
-    elbow then flexes and extends 20–40° peak to peak with the swing, as
-    measured in normal gait (29.7 ± 10.2°, Kang et al., Clin Shoulder Elb
-    26:126, 2023); below 1.5 Hz the follow-through resonates past 50° [E]."""
+    gravity pendulum, ≈ 1 Hz, stiffened by muscle tone), drawn per use: over
+    this range the elbow flexes and extends 19–41° peak to peak per stride with
+    the swing, the spread measured in normal gait (29.7 ± 10.2°, Kang et al.,
+    Clin Shoulder Elb 26:126, 2023); below it the follow-through resonates [E]."""
     elbow_damping: tuple[float, float] = (0.2, 0.4)
     """Range of the elbow's damping ratio, drawn per use [E]."""
     twist_deg: tuple[float, float] = (5.5, 8.5)

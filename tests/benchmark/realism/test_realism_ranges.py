@@ -1,0 +1,91 @@
+"""The simulator against real walks: what lies inside its real range stays inside.
+
+The realism board's own comparison (:func:`compare` over the default
+:class:`RealismConfig`: four sites, three seeds, every modelled mode), run once
+for the module. Each (mode, statistic) whose median lies inside the real range
+on every site is pinned here, so a change to the walker or the phone that
+pushes one out fails; the others are expected failures, listed by the issue
+"Motion realism" as work still to do, and report XPASS when a change brings
+them in (then move them to ``INSIDE``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import pandas as pd
+import pytest
+
+from indoorsim.benchmark.realism.reference import MODELLED_MODES, load_real_motion
+from indoorsim.benchmark.realism.report import (
+    COMPARED,
+    RealismConfig,
+    compare,
+    real_range,
+    simulate_motion,
+)
+
+INSIDE = {
+    "handheld": {
+        "step_hz",
+        "cadence_ratio",
+        "acc_kurtosis",
+        "share_step",
+        "share_stride",
+        "gyro_rms_1",
+        "gyro_rms_3",
+        "heading_jitter",
+        "gyro_drift",
+    },
+    "calling": {"step_hz", "cadence_ratio", "acc_kurtosis"},
+    "dangling": {"step_hz", "acc_crest", "acc_kurtosis", "share_2nd"},
+    "pocketed": {
+        "step_hz",
+        "cadence_ratio",
+        "acc_p2p",
+        "acc_crest",
+        "acc_kurtosis",
+        "share_stride",
+    },
+}
+"""(mode, statistic) inside the real range on every site, per mode."""
+
+_REAL = load_real_motion()
+_JUDGED = [
+    (mode, key)
+    for mode in MODELLED_MODES
+    for key in COMPARED
+    if math.isfinite(real_range(_REAL, mode, key)[0])
+]
+
+
+def _case(mode: str, key: str):
+    if key in INSIDE.get(mode, set()):
+        return pytest.param(mode, key, id=f"{mode}-{key}")
+    mark = pytest.mark.xfail(reason="outside its real range on some site today", strict=False)
+    return pytest.param(mode, key, id=f"{mode}-{key}", marks=mark)
+
+
+@pytest.fixture(scope="module")
+def comparison() -> tuple[pd.DataFrame, int]:
+    sim, _ = simulate_motion(RealismConfig())
+    return compare(_REAL, sim).set_index(["mode", "statistic"]), sim["site"].nunique()
+
+
+def test_every_pinned_statistic_has_a_real_range():
+    pinned = {(mode, key) for mode, keys in INSIDE.items() for key in keys}
+    assert pinned <= set(_JUDGED)
+
+
+@pytest.mark.parametrize(("mode", "key"), [_case(m, k) for m, k in _JUDGED])
+def test_the_simulated_median_lies_inside_the_real_range_on_every_site(comparison, mode, key):
+    table, sites = comparison
+    row = table.loc[(mode, key)]
+    outside = {
+        site: round(float(row[site]), 3)
+        for site in table.columns[table.columns.get_loc("real_source") + 1 : -1]
+        if not row["real_low"] <= row[site] <= row["real_high"]
+    }
+    assert row["sites_inside"] == sites, (
+        f"{mode} {key}: real {row['real_low']:.3g}–{row['real_high']:.3g}, outside on {outside}"
+    )
