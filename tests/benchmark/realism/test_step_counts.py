@@ -48,9 +48,7 @@ def sites():
 
 @pytest.mark.parametrize("min_interval_s", [0.3, 0.5])
 @pytest.mark.parametrize("mode", sorted(REAL_POSITIONS))
-def test_the_detector_miscounts_a_simulated_walk_as_it_does_a_real_one(
-    sites, mode, min_interval_s
-):
+def test_the_detector_miscounts_a_simulated_walk_as_it_does_a_real_one(sites, mode, min_interval_s):
     real = pd.read_csv(REAL_COUNTS)
     real = real[real["position"].isin(REAL_POSITIONS[mode])]
     real = real[real["min_interval_s"] == min_interval_s]["error_pct"]
