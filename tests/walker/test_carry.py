@@ -63,8 +63,9 @@ def test_phone_stays_inside_and_its_pose_is_continuous(l_plan, l_body, schedule)
     # and turns less than 4° per sample.
     assert np.linalg.norm(np.diff(phone.pos, axis=0), axis=1).max() < 0.02
     assert rates.max() / l_body.rate_hz < 4.0
+    # Real front pockets read up to 4.4–4.5 g of specific force (Oxford walks).
     acc = np.diff(phone.pos, 2, axis=0) * l_body.rate_hz**2
-    assert np.linalg.norm(acc, axis=1).max() < 3 * 9.81
+    assert np.linalg.norm(acc, axis=1).max() < 4 * 9.81
     assert ((phone.light_exposure >= 0) & (phone.light_exposure <= 1)).all()
 
 

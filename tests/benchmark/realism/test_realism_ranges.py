@@ -42,6 +42,7 @@ INSIDE = {
     "pocketed": {
         "step_hz",
         "cadence_ratio",
+        "acc_std",
         "acc_p2p",
         "acc_crest",
         "acc_kurtosis",
