@@ -180,12 +180,12 @@ def test_every_baseline_runs_in_every_carrying_mode(
         truth = true_positions_at(rec, result.t)
         mean_error[name] = float(np.linalg.norm(result.estimate - truth, axis=1).mean())
     # Dead reckoning must track the walk in every mode, not merely run: on this
-    # 44 s walk it stays within half of standing still's error (the pocket gives
-    # about a third; held at the front or the ear, a tenth or less). With the arm
-    # swinging, the default 0.5 s step detector loses about half the steps, as it
-    # does on the real swinging-arm walks (leaderboards/step_counts_real.md:
-    # -47 %), so there it has only to beat standing still.
-    share = 1.0 if mode == "dangling" else 0.5
+    # 44 s walk, held at the front or the ear, it stays within half of standing
+    # still's error (a tenth or less, in fact). With the arm swinging or in a
+    # pocket, the default 0.5 s step detector loses half the steps or more, as
+    # it does on the real walks (leaderboards/step_counts_real.md: swinging arm
+    # -47 %, front pocket -46 to -80 %), so there three quarters must do.
+    share = 0.75 if mode in ("dangling", "pocketed") else 0.5
     assert mean_error["pdr-basic"] < share * mean_error["start-only"], mean_error
 
 
