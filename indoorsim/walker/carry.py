@@ -44,10 +44,8 @@ in a pocket (fabric).
 
 from __future__ import annotations
 
-import functools
 import itertools
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import ClassVar, Literal
 
@@ -57,11 +55,10 @@ import pymunk
 from numpy.typing import NDArray
 from pymunk._chipmunk_cffi import lib as _CP
 from scipy.interpolate import CubicSpline
-from scipy.ndimage import gaussian_filter1d
-from scipy.signal import bilinear, butter, lfilter, oaconvolve, sosfilt, sosfilt_zi
 from scipy.spatial.transform import Rotation
 
 from indoorsim.util import quaternion as quat_ops
+from indoorsim.walker import limbs
 from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory, smootherstep
 from indoorsim.walker.modes import (
     ENTRY_POINT_GROUP,
@@ -210,7 +207,7 @@ def carry(
     for j, (i0, pose) in enumerate(poses):
         sl = slice(i0, i0 + len(pose.pos))
         pos[sl], light[sl] = pose.pos, pose.light_exposure
-        _put_scalar_first(quat[sl], pose.rot)
+        limbs.put_scalar_first(quat[sl], pose.rot)
         which[sl] = j
         if j == 0:
             continue
@@ -222,7 +219,7 @@ def carry(
         wc = w[:, None]
         pos[i0 : i0 + k] = (1 - wc) * prev.pos[a] + wc * pose.pos[:k]
         light[i0 : i0 + k] = (1 - w) * prev.light_exposure[a] + w * pose.light_exposure[:k]
-        _put_scalar_first(quat[i0 : i0 + k], _slerp(prev.rot[a], pose.rot[:k], w))
+        limbs.put_scalar_first(quat[i0 : i0 + k], _slerp(prev.rot[a], pose.rot[:k], w))
         which[i0 : i0 + k] = np.where(w < 0.5, j - 1, j)
     # Sized by the longest name in use, as a string array built from the names would be.
     used = np.flatnonzero(np.bincount(which, minlength=len(entries)))
@@ -263,35 +260,6 @@ def _parse_schedule(
             raise ScheduleError(f"schedule[{i}]: starts at {t_start} s, after the walk ends")
         out.append((max(t_start, float(body.t[0])), get_mode(name)(**params)))
     return out
-
-
-def _put_scalar_first(out: NDArray[np.float64], rot: Rotation) -> None:
-    """Write the rotations' quaternions into ``out`` (K, 4), scalar first.
-
-    ``as_quat(scalar_first=True)`` would build an intermediate rolled copy
-    (np.roll along an axis of four is slow), and column-by-column copies
-    are strided: one compiled pass instead.
-    """
-    _move_scalar(rot.as_quat(), out, False)
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _move_scalar(q, out, to_last):  # pragma: no cover - compiled
-    """out[k] = q[k] with the scalar moved from first to last (``to_last``) or back."""
-    for k in range(q.shape[0]):
-        a, b, c, d = q[k, 0], q[k, 1], q[k, 2], q[k, 3]
-        if to_last:
-            out[k, 0], out[k, 1], out[k, 2], out[k, 3] = b, c, d, a
-        else:
-            out[k, 0], out[k, 1], out[k, 2], out[k, 3] = d, a, b, c
-
-
-def _swap_scalar(q: NDArray[np.float64], to_last: bool) -> NDArray[np.float64]:
-    """Quaternion(s) q (4,) or (K, 4) with the scalar moved to the end (``to_last``) or front."""
-    q2 = np.ascontiguousarray(np.atleast_2d(q))
-    out = np.empty_like(q2)
-    _move_scalar(q2, out, to_last)
-    return out.reshape(np.shape(q))
 
 
 def _slerp(a: Rotation, b: Rotation, w: NDArray[np.float64]) -> Rotation:
@@ -354,139 +322,6 @@ def _sign_continuous_kernel(q):  # pragma: no cover - compiled
 # ---------------------------------------------------------------------- shared pieces
 
 
-# Rotations inside the modes are unit quaternion arrays, (4,) or (K, 4), scalar
-# first (scipy's Rotation is built once per pose): at 200 Hz over a long walk
-# scipy's conversions on every factor would cost more than the motion itself.
-Quat = NDArray[np.float64]
-
-
-def _compose(*rotations: Quat) -> Quat:
-    """The product q₁ ⊗ q₂ ⊗ …, each a single quaternion or a stack of one common length.
-
-    The same rotation as chaining scipy's ``*`` (to rounding).
-    """
-    q = np.atleast_2d(np.asarray(rotations[0], dtype=float))
-    for r in rotations[1:]:
-        q = quat_ops.multiply(q, r)
-    return q
-
-
-def _rotation(q: Quat) -> Rotation:
-    """The scipy rotation(s) of quaternion(s) q.
-
-    scipy's ``scalar_first=True`` rolls the array with np.roll, which is slow
-    along an axis of four: the scalar is moved in one compiled pass instead.
-    """
-    return Rotation.from_quat(_swap_scalar(q, True))
-
-
-def _about(axis: str, angle: float | NDArray[np.float64]) -> Quat:
-    """Rotation(s) by ``angle`` rad about the x, y or z axis (one per angle)."""
-    half = 0.5 * np.asarray(angle, dtype=float)
-    q = np.zeros((*half.shape, 4))
-    q[..., 0] = np.cos(half)
-    q[..., 1 + "xyz".index(axis)] = np.sin(half)
-    return q
-
-
-def _from_rotvec(v: NDArray[np.float64]) -> Quat:
-    """Rotation(s) by rotation vector(s) v."""
-    return _swap_scalar(Rotation.from_rotvec(v).as_quat(), False)
-
-
-def _body_frame(yaw: NDArray[np.float64]) -> Quat:
-    """World←body rotations (body x forward, y left, z up) for yaw angles."""
-    return _about("z", yaw)
-
-
-def _apply(q: Quat, v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Vectors v (3,) or (K, 3) rotated by q."""
-    return quat_ops.rotate(q, v)
-
-
-def _from_axes(x: Sequence[float], y: Sequence[float], z: Sequence[float]) -> Quat:
-    """The rotation whose columns are the phone's x, y, z axes in the body frame."""
-    return Rotation.from_matrix(np.column_stack([x, y, z])).as_quat(scalar_first=True)
-
-
-@functools.cache
-def _butter(band: float | tuple[float, float], rate_hz: float) -> tuple[NDArray, NDArray]:
-    """Second-order Butterworth sections (low-pass, or band-pass for a pair) and their
-    steady-state initial conditions per unit input; designed once per band and rate."""
-    btype = "lowpass" if isinstance(band, float | int) else "bandpass"
-    sos = butter(2, band, btype=btype, fs=rate_hz, output="sos")
-    zi = sosfilt_zi(sos)
-    return sos, zi
-
-
-def _lowpass(x: NDArray[np.float64], cutoff_hz: float, rate_hz: float) -> NDArray[np.float64]:
-    """Second-order Butterworth low-pass along axis 0, starting in its steady state."""
-    sos, zi = _butter(cutoff_hz, rate_hz)
-    x = np.asarray(x, dtype=float)
-    init = zi[..., None] * x[0] if x.ndim > 1 else zi * x[0]
-    return sosfilt(sos, x, axis=0, zi=init)[0]
-
-
-def _acceleration(pos: NDArray[np.float64], t: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Second derivative of sampled positions along axis 0."""
-    return np.gradient(np.gradient(pos, t, axis=0), t, axis=0)
-
-
-def _oscillator(
-    drive: NDArray[np.float64], natural_hz: float, damping: float, rate_hz: float
-) -> NDArray[np.float64]:
-    """θ of θ̈ + 2ζω·θ̇ + ω²·θ = drive, from rest (ω = 2π·natural_hz, ζ = damping).
-
-    A limb segment held by muscle about a joint: below its natural frequency
-    it follows the static balance drive/ω², near it the response rings, above
-    it the segment's inertia holds it still. Discretised by the bilinear
-    transform (at the body's 200 Hz and more, frequency warping is negligible).
-    """
-    omega = 2.0 * np.pi * natural_hz
-    b, a = bilinear([1.0], [1.0, 2.0 * damping * omega, omega**2], fs=rate_hz)
-    return lfilter(b, a, drive, axis=0)
-
-
-def _to_body(vec: NDArray[np.float64], heading: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Horizontal vectors in the walking frame: (forward, left)."""
-    c, s = np.cos(heading), np.sin(heading)
-    return np.column_stack([c * vec[:, 0] + s * vec[:, 1], -s * vec[:, 0] + c * vec[:, 1]])
-
-
-def _tremor(n: int, rate_hz: float, rms: float, rng: np.random.Generator) -> NDArray[np.float64]:
-    """Physiological tremor on three axes: noise band-limited to 8–12 Hz with RMS ``rms``."""
-    sos, _ = _butter((8.0, 12.0), rate_hz)
-    x = sosfilt(sos, rng.standard_normal((n, 3)), axis=0)
-    sd = x.std()
-    if sd > 0:
-        x *= rms / sd
-    return x
-
-
-def _slow_noise(n: int, rate_hz: float, rng: np.random.Generator) -> NDArray[np.float64]:
-    """Unit-RMS noise varying over about a second."""
-    x = _gaussian_smooth(rng.standard_normal(n), 0.5 * rate_hz)
-    sd = x.std()
-    return x / sd if sd > 0 else x
-
-
-def _gaussian_smooth(x: NDArray[np.float64], sigma: float) -> NDArray[np.float64]:
-    """``scipy.ndimage.gaussian_filter1d(x, sigma)`` (same kernel, mirrored ends), by FFT.
-
-    With σ of a hundred samples the direct filter costs ~800 products per
-    sample; overlap-add convolution gives the same result to rounding.
-    """
-    radius = int(4.0 * sigma + 0.5)
-    u = np.arange(-radius, radius + 1)
-    kernel = np.exp(-0.5 * (u / sigma) ** 2)
-    kernel /= kernel.sum()
-    # ndimage's "reflect" mirrors about the edge, repeating the end sample.
-    padded = np.pad(x, radius, mode="symmetric") if len(x) > radius else None
-    if padded is None:
-        return gaussian_filter1d(x, sigma)
-    return oaconvolve(padded, kernel, mode="valid")
-
-
 @numba.njit(cache=True, error_model="numpy")
 def _pocket_offset(
     sin_a, cos_a, sin_b, cos_b, hip, jolt, shear, out
@@ -521,7 +356,7 @@ class Handheld(CarryMode):
     """Held in front of the chest, screen up, looked at (REALISM §6.1 texting row).
 
     Two joints carry the phone, each held by muscle like a damped spring
-    (:func:`_oscillator`): the forearm pivots at the elbow, which rides on the
+    (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, which rides on the
     trunk (its bounce, heel strikes and yaw), and the hand, with the phone,
     pivots at the wrist. The elbow's acceleration across the forearm swings
     the forearm (stiff, 4–6 Hz: the phone's acceleration is the trunk's passed
@@ -587,31 +422,31 @@ class Handheld(CarryMode):
         along = math.cos(rise) * level + [0.0, 0.0, math.sin(rise)]  # elbow → hand
         across = -math.sin(rise) * level + [0.0, 0.0, math.cos(rise)]  # the forearm's swing
         yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
-        frame = _body_frame(yaw)
+        frame = limbs.body_frame(yaw)
         # The elbow hangs from the shoulder: it turns and leans with the trunk.
-        trunk = _compose(frame, _about("x", body.roll))
-        elbow = body.pos + _apply(trunk, rest - self.forearm_m * along)
-        acc = _acceleration(elbow, body.t)
-        horiz = _to_body(acc, yaw)
+        trunk = limbs.compose(frame, limbs.about("x", body.roll))
+        elbow = body.pos + limbs.apply(trunk, rest - self.forearm_m * along)
+        acc = limbs.acceleration(elbow, body.t)
+        horiz = limbs.to_body(acc, yaw)
         up_across = horiz[:, 0] * across[0] + horiz[:, 1] * across[1] + acc[:, 2] * across[2]
-        swing = _oscillator(
+        swing = limbs.oscillator(
             -up_across / self.forearm_m,
             rng.uniform(*self.elbow_natural_hz),
             rng.uniform(*self.elbow_damping),
             rate,
         )
         lever = np.cos(swing)[:, None] * along + np.sin(swing)[:, None] * across
-        pos = elbow + _apply(frame, self.forearm_m * lever)
+        pos = elbow + limbs.apply(frame, self.forearm_m * lever)
         # The hand's acceleration on its offset from the wrist: angular drive a·d/(d² + ρ²).
-        hand_acc = _acceleration(pos, body.t)
-        hand_horiz = _to_body(hand_acc, yaw)
+        hand_acc = limbs.acceleration(pos, body.t)
+        hand_horiz = limbs.to_body(hand_acc, yaw)
         d, rho = self.wrist_offset_m, self.wrist_gyration_m
         gain = d / (d**2 + rho**2)
         damping = rng.uniform(*self.wrist_damping)
         hand_across = (
             hand_horiz[:, 0] * across[0] + hand_horiz[:, 1] * across[1] + hand_acc[:, 2] * across[2]
         )
-        nod = _oscillator(
+        nod = limbs.oscillator(
             -gain * hand_across,
             rng.uniform(*self.wrist_pitch_hz),
             damping,
@@ -622,11 +457,11 @@ class Handheld(CarryMode):
         # offset along the hand). About the forearm the phone rocks on its centre of
         # mass's offsets from the axis: the vertical acceleration on the offset toward
         # the thumb, the sideways one on the height above the palm.
-        turn = _oscillator(
+        turn = limbs.oscillator(
             -gain * hand_horiz[:, 1], rng.uniform(*self.wrist_pitch_hz), damping, rate
         )
         thumb, palm = -side * self.thumb_offset_m, self.palm_height_m
-        rock = _oscillator(
+        rock = limbs.oscillator(
             (thumb * hand_across - palm * hand_horiz[:, 1]) / (thumb**2 + palm**2 + rho**2),
             rng.uniform(*self.wrist_roll_hz),
             damping,
@@ -634,16 +469,16 @@ class Handheld(CarryMode):
         )
         misalign = math.radians(rng.normal(0.0, self.misalignment_deg))
         n = len(body.t)
-        pos += _tremor(n, rate, 1e-3 * self.tremor_mm, rng)
-        tremor = _tremor(n, rate, math.radians(self.tremor_deg), rng)
-        rot = _compose(
-            _body_frame(yaw + misalign + turn),
-            _about("z", -np.pi / 2),
-            _about("x", math.radians(self.pitch_deg) + swing + nod),
-            _about("y", grip + rock),
-            _from_rotvec(tremor),
+        pos += limbs.tremor(n, rate, 1e-3 * self.tremor_mm, rng)
+        tremor = limbs.tremor(n, rate, math.radians(self.tremor_deg), rng)
+        rot = limbs.compose(
+            limbs.body_frame(yaw + misalign + turn),
+            limbs.about("z", -np.pi / 2),
+            limbs.about("x", math.radians(self.pitch_deg) + swing + nod),
+            limbs.about("y", grip + rock),
+            limbs.from_rotvec(tremor),
         )
-        return ModePose(pos=pos, rot=_rotation(rot), light_exposure=np.ones(n))
+        return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=np.ones(n))
 
 
 @register_mode
@@ -657,7 +492,7 @@ class Calling(CarryMode):
     nods and rocks on the neck: the trunk's acceleration acts on the head's
     centre of mass, ahead of and above the atlas joint, against the neck's
     muscles (``head_natural_hz``), which steady the head but do not hold it
-    still (:func:`_oscillator`).
+    still (:func:`~.limbs.oscillator`).
     """
 
     name: ClassVar[str] = "calling"
@@ -688,31 +523,36 @@ class Calling(CarryMode):
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, rate, side = body.height_m, body.rate_hz, _side(self.ear)
         yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
-        frame = _body_frame(yaw)
+        frame = limbs.body_frame(yaw)
         # The phone's centre: beside the head, a little ahead of and below the ear.
         offset = np.array([0.05, 0.09 * side, (_EAR_H - 0.02 - PELVIS_HEIGHT_RATIO) * h])
         # Where the trunk carries the head: the neck's base leans with the trunk.
-        carried = body.pos + _apply(_compose(frame, _about("x", body.roll)), offset)
-        acc = _acceleration(carried, body.t)
+        carried = body.pos + limbs.apply(limbs.compose(frame, limbs.about("x", body.roll)), offset)
+        acc = limbs.acceleration(carried, body.t)
         natural, damping = rng.uniform(*self.neck_natural_hz), rng.uniform(*self.neck_damping)
         # The head's lag behind the carried point: ü + 2ζωu̇ + ω²u = −a_carried.
-        lag = _oscillator(-acc, natural, damping, rate)
+        lag = limbs.oscillator(-acc, natural, damping, rate)
         pos = carried + lag
-        head_acc = acc + _acceleration(lag, body.t)
-        horiz = _to_body(head_acc, yaw)
+        head_acc = acc + limbs.acceleration(lag, body.t)
+        horiz = limbs.to_body(head_acc, yaw)
         d, r = self.head_offset_m, self.head_gyration_m
         gain = d / (d**2 + r**2)
         f_head, z_head = rng.uniform(*self.head_natural_hz), rng.uniform(*self.head_damping)
-        nod = _oscillator(-gain * head_acc[:, 2], f_head, z_head, rate)
-        rock = _oscillator(gain * horiz[:, 1], f_head, z_head, rate)
+        nod = limbs.oscillator(-gain * head_acc[:, 2], f_head, z_head, rate)
+        rock = limbs.oscillator(gain * horiz[:, 1], f_head, z_head, rate)
         tilt = math.radians(self.tilt_deg if self.tilt_deg is not None else rng.uniform(30.0, 60.0))
         # Top up and back, screen toward the head (−side), x = y × z ≈ ∓forward.
         y = np.array([-math.sin(tilt), 0.0, math.cos(tilt)])
         z = np.array([0.0, -side, 0.0])
-        rot = _compose(frame, _about("x", rock), _about("y", nod), _from_axes(np.cross(y, z), y, z))
+        rot = limbs.compose(
+            frame,
+            limbs.about("x", rock),
+            limbs.about("y", nod),
+            limbs.from_axes(np.cross(y, z), y, z),
+        )
         base = rng.uniform(*self.light_exposure_range)
-        light = base * np.exp(0.2 * _slow_noise(len(body.t), rate, rng))
-        return ModePose(pos=pos, rot=_rotation(rot), light_exposure=light)
+        light = base * np.exp(0.2 * limbs.slow_noise(len(body.t), rate, rng))
+        return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=light)
 
 
 @register_mode
@@ -729,7 +569,7 @@ class Dangling(CarryMode):
     close to that amplitude, in antiphase with the same-side leg, while
     starting, stopping, bouncing and heel strikes perturb it as they would.
     The forearm hangs from the elbow, held by muscle like a damped spring
-    (:func:`_oscillator`): the upper arm's swing whips it on (the linearised
+    (:func:`~.limbs.oscillator`): the upper arm's swing whips it on (the linearised
     double pendulum), so the hand swings further and faster than the shoulder,
     and it pronates as the arm swings back and supinates forward. The hand
     hangs from the wrist in the same way, whipped on by the forearm. The phone
@@ -779,8 +619,8 @@ class Dangling(CarryMode):
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, side = body.height_m, _side(self.hand)
         length = _ARM_LENGTH * h
-        frame = _body_frame(body.yaw)
-        shoulder = body.pos + _apply(
+        frame = limbs.body_frame(body.yaw)
+        shoulder = body.pos + limbs.apply(
             frame, [0.0, _SHOULDER_HALF_WIDTH * h * side, (_SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
         )
         swing = math.radians(self.swing_deg if self.swing_deg is not None else rng.uniform(15, 25))
@@ -791,7 +631,7 @@ class Dangling(CarryMode):
         upper = self._UPPER_ARM * h
         forearm = length - upper
         theta_acc = np.gradient(np.gradient(theta, body.t), body.t)
-        flex = _oscillator(
+        flex = limbs.oscillator(
             -(1.0 + upper / forearm) * theta_acc,
             rng.uniform(*self.elbow_natural_hz),
             rng.uniform(*self.elbow_damping),
@@ -802,7 +642,7 @@ class Dangling(CarryMode):
         # acceleration drives it the same way, the grip's centre of mass a
         # short lever beyond the wrist.
         grip_lever = self._HAND_COM * h
-        wrist = _oscillator(
+        wrist = limbs.oscillator(
             -(1.0 + (forearm - grip_lever) / grip_lever)
             * np.gradient(np.gradient(arm, body.t), body.t),
             rng.uniform(*self.wrist_natural_hz),
@@ -818,15 +658,17 @@ class Dangling(CarryMode):
         # keep in step: −1 back … +1 forward at a full swing.
         phase = arm / max(float(np.percentile(np.abs(arm), 98)), 1e-9)
         twist = math.radians(rng.uniform(*self.twist_deg)) * phase
-        arc = _about("x", side * math.radians(rng.uniform(*self.arc_deg)) * phase)
+        arc = limbs.about("x", side * math.radians(rng.uniform(*self.arc_deg)) * phase)
         limb = upper * _down(theta) + (forearm - grip_lever) * _down(arm) + grip_lever * _down(hand)
-        pos = shoulder + _apply(frame, _apply(arc, limb))
+        pos = shoulder + limbs.apply(frame, limbs.apply(arc, limb))
         # At the bottom of the swing: x down (right hand) or up (left), y
         # forward, z outward.
-        base = _from_axes([0.0, 0.0, side], [1.0, 0.0, 0.0], [0.0, side, 0.0])
-        grip = _from_rotvec(np.radians(rng.normal(0.0, self.grip_deg, 3)))
-        rot = _compose(frame, arc, _about("y", -hand), _about("z", side * twist), base, grip)
-        return ModePose(pos=pos, rot=_rotation(rot), light_exposure=np.ones(len(body.t)))
+        base = limbs.from_axes([0.0, 0.0, side], [1.0, 0.0, 0.0], [0.0, side, 0.0])
+        grip = limbs.from_rotvec(np.radians(rng.normal(0.0, self.grip_deg, 3)))
+        rot = limbs.compose(
+            frame, arc, limbs.about("y", -hand), limbs.about("z", side * twist), base, grip
+        )
+        return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=np.ones(len(body.t)))
 
     def _simulate(
         self,
@@ -853,8 +695,8 @@ class Dangling(CarryMode):
         torque = amplitude * (
             (stiffness - inertia * omega**2) * np.cos(cyc) - damping * omega * np.sin(cyc)
         )
-        acc = _acceleration(shoulder, t)
-        fwd = np.cos(body.yaw) * acc[:, 0] + np.sin(body.yaw) * acc[:, 1]  # _to_body's forward
+        acc = limbs.acceleration(shoulder, t)
+        fwd = np.cos(body.yaw) * acc[:, 0] + np.sin(body.yaw) * acc[:, 1]  # limbs.to_body's forward
 
         dt = 1.0 / self.physics_rate_hz
         t_phys = t[0] + np.arange(math.ceil((t[-1] - t[0]) / dt) + 1) * dt
@@ -909,7 +751,7 @@ class Pocketed(CarryMode):
     round it from the front), and the phone in it is a plate held at its deep
     end by the pocket's bottom and against the thigh by the cloth: it rocks on
     that hold, in its own plane and away from the thigh, as a damped spring
-    (:func:`_oscillator`, ``wobble_hz``) under the inertial load of the thigh's
+    (:func:`~.limbs.oscillator`, ``wobble_hz``) under the inertial load of the thigh's
     acceleration and gravity on its centre of mass — heel strikes ring it, the
     swing's tangential acceleration tips it.
     """
@@ -967,7 +809,7 @@ class Pocketed(CarryMode):
         which = self.side if self.side is not None else ("left", "right")[int(rng.random() < 0.5)]
         h, side = body.height_m, _side(which)
         # The pelvis counter-rotates against the trunk at stride frequency.
-        pelvis = _body_frame(2.0 * body.heading - body.yaw)
+        pelvis = limbs.body_frame(2.0 * body.heading - body.yaw)
         env = body.gait_envelope
         swing = math.radians(
             self.thigh_swing_deg if self.thigh_swing_deg is not None else rng.uniform(18, 23)
@@ -1001,7 +843,7 @@ class Pocketed(CarryMode):
         _pocket_offset(
             np.sin(alpha), np.cos(alpha), np.sin(around), np.cos(around), hip, jolt, shear, local
         )
-        rigid_pos = body.pos + _apply(_compose(pelvis, _about("x", roll)), local)
+        rigid_pos = body.pos + limbs.apply(limbs.compose(pelvis, limbs.about("x", roll)), local)
 
         top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)
         screen_out = self.screen_out if self.screen_out is not None else bool(rng.random() < 0.5)
@@ -1011,31 +853,36 @@ class Pocketed(CarryMode):
             else rng.choice((-1.0, 1.0)) * rng.uniform(0.0, 20.0)
         )
         # Standing, top down, screen out: x right, y down, z forward.
-        base = _from_axes([0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0])
-        placement = _compose(
-            _about("y", -side * pocket_yaw),  # base y is down the thigh
-            _about("z", slant),
-            _about("y", 0.0 if screen_out else np.pi),
-            _about("z", 0.0 if top_down else np.pi),
+        base = limbs.from_axes([0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0])
+        placement = limbs.compose(
+            limbs.about("y", -side * pocket_yaw),  # base y is down the thigh
+            limbs.about("z", slant),
+            limbs.about("y", 0.0 if screen_out else np.pi),
+            limbs.about("z", 0.0 if top_down else np.pi),
         )
-        rigid = _compose(
-            pelvis, _about("x", roll), _about("y", -alpha), _about("z", twist), base, placement
+        rigid = limbs.compose(
+            pelvis,
+            limbs.about("x", roll),
+            limbs.about("y", -alpha),
+            limbs.about("z", twist),
+            base,
+            placement,
         )
         wobble, shift = self._wobble(body, rigid_pos, rigid, top_down, screen_out, rng)
-        pos = rigid_pos + _apply(rigid, shift)
-        rot = _compose(rigid, wobble)
+        pos = rigid_pos + limbs.apply(rigid, shift)
+        rot = limbs.compose(rigid, wobble)
         light = np.full(len(body.t), rng.uniform(*self.light_exposure_range))
-        return ModePose(pos=pos, rot=_rotation(rot), light_exposure=light)
+        return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=light)
 
     def _wobble(
         self,
         body: BodyTrajectory,
         pos: NDArray[np.float64],
-        rot: Quat,
+        rot: limbs.Quat,
         top_down: bool,
         screen_out: bool,
         rng: np.random.Generator,
-    ) -> tuple[Quat, NDArray[np.float64]]:
+    ) -> tuple[limbs.Quat, NDArray[np.float64]]:
         """The phone's rocking on the pocket's hold, and its centre's shift with it.
 
         In the phone's frame the hold is at its deep end, its centre of mass r =
@@ -1046,7 +893,7 @@ class Pocketed(CarryMode):
         rocking about the long axis (y) the cloth stops. Returns the rotation
         and the centre's displacement (R(θ) − 1)·r, both in the phone's frame.
         """
-        f = _acceleration(pos, body.t)
+        f = limbs.acceleration(pos, body.t)
         f[:, 2] += _G
         f_phone = quat_ops.rotate(rot, f, inverse=True)
         half = _PHONE_LENGTH_M / 2.0
@@ -1054,12 +901,15 @@ class Pocketed(CarryMode):
             [0.0, -half if top_down else half, _POCKET_LEVER_M if screen_out else -_POCKET_LEVER_M]
         )
         torque = -np.cross(r, f_phone)  # per unit mass
-        inertia = np.array(
-            [_PHONE_LENGTH_M**2 / 3.0, 1.0, _PHONE_LENGTH_M**2 / 3.0 + _PHONE_WIDTH_M**2 / 12.0]
+        # Per unit mass, about x (away from the thigh) and z (in the phone's plane).
+        inertia_xz = np.array(
+            [_PHONE_LENGTH_M**2 / 3.0, _PHONE_LENGTH_M**2 / 3.0 + _PHONE_WIDTH_M**2 / 12.0]
         )
         natural, damping = rng.uniform(*self.wobble_hz), rng.uniform(*self.wobble_damping)
-        theta = _oscillator(torque / inertia, natural, damping, body.rate_hz)
-        theta[:, 1] = 0.0
-        wobble = _from_rotvec(theta)
-        shift = _apply(wobble, np.broadcast_to(r, theta.shape)) - r
+        theta = np.zeros_like(torque)  # about y the cloth holds it
+        theta[:, ::2] = limbs.oscillator(
+            torque[:, ::2] / inertia_xz, natural, damping, body.rate_hz
+        )
+        wobble = limbs.from_rotvec(theta)
+        shift = limbs.apply(wobble, np.broadcast_to(r, theta.shape)) - r
         return wobble, shift

@@ -8,6 +8,7 @@ from scipy.spatial.transform import Rotation
 
 import indoorsim.walker.carry as carry_module
 from indoorsim.scenario import RouteSpec
+from indoorsim.walker import limbs
 from indoorsim.walker.carry import Handheld, PhoneTrajectory, carry
 from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
 from indoorsim.walker.route import plan_route
@@ -265,7 +266,7 @@ def test_fft_gaussian_smoothing_equals_scipys_filter():
     x = np.random.default_rng(8).standard_normal(5000)
     for sigma in (3.0, 100.0):
         np.testing.assert_allclose(
-            carry_module._gaussian_smooth(x, sigma), gaussian_filter1d(x, sigma), atol=1e-13
+            limbs.gaussian_smooth(x, sigma), gaussian_filter1d(x, sigma), atol=1e-13
         )
 
 
@@ -274,7 +275,7 @@ def test_compiled_rotation_product_matches_scipy():
     a = Rotation.random(500, random_state=1)
     b = Rotation.random(500, random_state=2)
     c = Rotation.random(random_state=3)
-    got = carry_module._compose(
+    got = limbs.compose(
         a.as_quat(scalar_first=True), b.as_quat(scalar_first=True), c.as_quat(scalar_first=True)
     )
     np.testing.assert_allclose(
@@ -284,7 +285,7 @@ def test_compiled_rotation_product_matches_scipy():
     for axis in "xyz":
         ref = Rotation.from_rotvec(np.multiply.outer(angle, np.eye(3)["xyz".index(axis)]))
         np.testing.assert_allclose(
-            carry_module._rotation(carry_module._about(axis, angle)).as_matrix(),
+            limbs.rotation(limbs.about(axis, angle)).as_matrix(),
             ref.as_matrix(),
             atol=1e-12,
         )
@@ -300,7 +301,7 @@ def test_compiled_sign_continuity_and_scalar_moves_match_numpy():
     for start, stop in zip(flips[::2], [*flips[1::2], len(q)], strict=False):
         ref[start:stop] *= -1.0
     assert carry_module._sign_continuous(q.copy()).tobytes() == ref.tobytes()
-    last = carry_module._swap_scalar(q, True)
+    last = limbs.swap_scalar(q, True)
     assert last.tobytes() == np.roll(q, -1, axis=1).tobytes()
-    assert carry_module._swap_scalar(last, False).tobytes() == q.tobytes()
-    assert carry_module._swap_scalar(q[3], True).tolist() == np.roll(q[3], -1).tolist()
+    assert limbs.swap_scalar(last, False).tobytes() == q.tobytes()
+    assert limbs.swap_scalar(q[3], True).tolist() == np.roll(q[3], -1).tolist()
