@@ -49,7 +49,11 @@ def add_realism(subparsers: Subparsers) -> None:
         "and write their statistics over the committed table",
     )
     parser.add_argument(
-        "--seeds", type=seed_number, default=3, metavar="N", help="seeds per site and mode"
+        "--seeds",
+        type=seed_number,
+        default=None,
+        metavar="N",
+        help="seeds per site and mode (default: the leaderboard's, five)",
     )
     parser.add_argument(
         "--mode",
@@ -68,7 +72,7 @@ def _run_realism(args: argparse.Namespace) -> int:
     from indoorsim.benchmark.realism.report import RealismConfig, run_realism
 
     check_folder(args.out)
-    if args.seeds < 1:
+    if args.seeds is not None and args.seeds < 1:
         raise CliError("--seeds must be at least 1")
     if args.realdata is not None and not args.realdata.is_dir():
         raise CliError(f"--realdata {args.realdata}: no such folder")
@@ -76,7 +80,8 @@ def _run_realism(args: argparse.Namespace) -> int:
     for mode in modes:
         mode_schedule(mode, one_mode=True)
     device_profile(args.device)
-    config = RealismConfig(modes=modes, seeds=tuple(range(args.seeds)), device=args.device)
+    seeds = RealismConfig().seeds if args.seeds is None else tuple(range(args.seeds))
+    config = RealismConfig(modes=modes, seeds=seeds, device=args.device)
     with tqdm(desc="realism", disable=None, file=sys.stderr) as bar:
         table = run_realism(
             args.out,

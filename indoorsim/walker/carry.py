@@ -124,6 +124,26 @@ def _hip_flexion() -> CubicSpline:
 _HIP_FLEXION = _hip_flexion()
 
 
+def _pelvic_list() -> CubicSpline:
+    """The pelvis's frontal-plane tilt over a gait cycle from one side's heel strike,
+    that side up positive, scaled to ±1.
+
+    Knots read off normal gait's pelvic obliquity (Perry & Burnfield, *Gait
+    Analysis*, 2010; Winter 2009): in that side's loading response the other,
+    unloaded side drops fast — the hip on the loaded side rises relative to it,
+    most at 12–15 % of the cycle — and it levels slowly through single support;
+    the next half cycle mirrors it [E]. The fast drop puts the stride's third
+    harmonic into the hip's vertical motion.
+    """
+    p = np.array([0.0, 0.05, 0.13, 0.2, 0.3, 0.4, 0.5])
+    up = np.array([0.0, 0.6, 1.0, 0.9, 0.5, 0.2, 0.0])
+    p, up = np.r_[p, p[1:] + 0.5], np.r_[up, -up[1:]]
+    return CubicSpline(p, up, bc_type="periodic")
+
+
+_PELVIC_LIST = _pelvic_list()
+
+
 @dataclass(frozen=True, kw_only=True, eq=False)
 class PhoneTrajectory:
     """The phone's true motion, sampled like the body.
@@ -323,12 +343,10 @@ def _sign_continuous_kernel(q):  # pragma: no cover - compiled
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _pocket_offset(
-    sin_a, cos_a, sin_b, cos_b, hip, jolt, shear, out
-):  # pragma: no cover - compiled
-    """The phone's place in the pelvis frame, the thigh flexed by α (sin_a, cos_a)
-    and the pocket β round the thigh from its front toward +y (sin_b, cos_b):
-    hip + along·thigh + front·(cos β·forward normal + sin β·lateral), less the
+def _pocket_offset(sin_a, cos_a, sin_b, cos_b, jolt, shear, out):  # pragma: no cover - compiled
+    """The phone's place from the hip joint in the pelvis frame, the thigh flexed by α
+    (sin_a, cos_a) and the pocket β round the thigh from its front toward +y (sin_b,
+    cos_b): along·thigh + front·(cos β·forward normal + sin β·lateral), less the
     jolt along the thigh and ``shear`` times it across the thigh's face. One pass
     over the samples.
     """
@@ -337,7 +355,7 @@ def _pocket_offset(
         thigh = (s, 0.0, -c)
         normal = (c * cos_b[k], sin_b[k], s * cos_b[k])
         for i in range(3):
-            v = hip[i] + _POCKET_ALONG_M * thigh[i] + _POCKET_FRONT_M * normal[i]
+            v = _POCKET_ALONG_M * thigh[i] + _POCKET_FRONT_M * normal[i]
             # The jolt drives the phone up along the thigh and shakes the flesh under it.
             out[k, i] = v - j * (thigh[i] + shear * normal[i])
 
@@ -744,8 +762,9 @@ class Pocketed(CarryMode):
     (:data:`_HIP_FLEXION`: slow extension through stance, quick flexion in
     swing, so the pitch rate is not a sinusoid), ab-/adduction and the rotation
     about the thigh follow at stride frequency with their own, drawn, lags
-    behind it. At the same-side heel strike the thigh stops against the ground
-    and the phone jolts along it.
+    behind it. The hip joint it hangs from rides on the pelvis, which lists
+    sideways (:data:`_PELVIC_LIST`). At the same-side heel strike the thigh
+    stops against the ground and the phone jolts along it.
 
     The pocket lies on the front-outer face of the thigh (``pocket_yaw_deg``
     round it from the front), and the phone in it is a plate held at its deep
@@ -768,13 +787,22 @@ class Pocketed(CarryMode):
     thigh_roll_deg: tuple[float, float] = (3.3, 5.5)
     """Range of the thigh's frontal-plane swing amplitude (6.7–11° peak to peak,
     real pockets), drawn per use."""
-    roll_lag_deg: tuple[float, float] = (30.0, 90.0)
-    """Range of its phase lag behind the pitch over the gait cycle, drawn per use."""
+    roll_lag_deg: tuple[float, float] = (30.0, 45.0)
+    """Range of its phase lag behind the pitch over the gait cycle, drawn per use:
+    the low end of the 30–90° measured in real pockets. Pitch and roll out of phase
+    cone, and turn the gyro heading by about π·pitch·roll·sin(lag) per stride (the
+    area the tilt encloses): over the whole 30–90° that is 2–6°/stride with this
+    swing and roll, while the same real pockets drift 0–2°/stride (typically 1.6);
+    30–45° gives 1–3."""
     thigh_twist_deg: tuple[float, float] = (8.5, 11.0)
     """Range of the rotation's amplitude about the thigh (17–22° peak to peak,
     real pockets), drawn per use."""
     twist_lag_deg: tuple[float, float] = (0.0, 90.0)
     """Range of its phase lag behind the pitch, drawn per use [E]."""
+    pelvic_list_deg: tuple[float, float] = (3.0, 5.0)
+    """Range of the pelvis's frontal-plane tilt amplitude (:data:`_PELVIC_LIST`:
+    ±3–5° in normal gait), drawn per use: it lifts and drops the hip joint that
+    carries the thigh by a few millimetres, quickly in each loading response [E]."""
     top_down: bool | None = None
     """Phone inserted top first; None draws it per use."""
     screen_out: bool | None = None
@@ -841,9 +869,16 @@ class Pocketed(CarryMode):
         shear = rng.uniform(*self.impact_shear)
         local = np.empty((len(alpha), 3))
         _pocket_offset(
-            np.sin(alpha), np.cos(alpha), np.sin(around), np.cos(around), hip, jolt, shear, local
+            np.sin(alpha), np.cos(alpha), np.sin(around), np.cos(around), jolt, shear, local
         )
-        rigid_pos = body.pos + limbs.apply(limbs.compose(pelvis, limbs.about("x", roll)), local)
+        # The hip joint rides on the pelvis, which tilts sideways with its list (the
+        # loaded side up); the thigh hangs from it in its own frontal-plane angle.
+        tilt = env * side * math.radians(rng.uniform(*self.pelvic_list_deg)) * _PELVIC_LIST(own)
+        rigid_pos = (
+            body.pos
+            + limbs.apply(limbs.compose(pelvis, limbs.about("x", tilt)), hip)
+            + limbs.apply(limbs.compose(pelvis, limbs.about("x", roll)), local)
+        )
 
         top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)
         screen_out = self.screen_out if self.screen_out is not None else bool(rng.random() < 0.5)

@@ -27,9 +27,14 @@ from scipy.interpolate import CubicSpline
 __all__ = ["IntraStepMotion", "bounce_waveform", "impulse_displacement", "intra_step_motion"]
 
 _G = 9.81  # m/s²
-# Heel-strike transients peak this long after contact and last about ±3σ; σ =
-# 15 ms puts their energy at 10–20 Hz [E].
-_HS_DELAY_S, _HS_SIGMA_S = 0.02, 0.015
+# Heel-strike transients peak this long after contact and last about ±3σ. At
+# the trunk σ = 30 ms puts their energy at 4–10 Hz: the heel pad, the knee and
+# the spine's soft tissue have spread the impact [E]. Hand-held phones demand
+# it: below the forearm's 6 Hz resonance the jolt reaches the hand, and the
+# real ILC hand-held walks' ‖a‖ (std 1.7–5.8 m/s², per-stride peak-to-peak
+# 6.8–17, crest 2.5–5.7, excess kurtosis up to 7.7) are reached; at 15 ms
+# (10–20 Hz) the forearm filtered the jolt out and the hand read a sinusoid.
+_HS_DELAY_S, _HS_SIGMA_S = 0.02, 0.03
 # The vertical minimum and forward-speed maximum come just after heel strike,
 # in double support (as a fraction of a step).
 _DOUBLE_SUPPORT_PHASE = 0.1
@@ -190,7 +195,7 @@ def impulse_displacement(
 ) -> NDArray[np.float64]:
     """Displacement (m) whose acceleration is a short pulse of ``peak`` m/s² after each heel strike.
 
-    x(t) = −peak·σ²·exp(−u²/2) with u = (t − t_hs − 20 ms)/σ and σ = 15 ms, so
+    x(t) = −peak·σ²·exp(−u²/2) with u = (t − t_hs − 20 ms)/σ (σ = ``sigma_s``), so
     ẍ = peak·(1 − u²)·exp(−u²/2), a Ricker wavelet: a sharp pulse flanked by
     two shallow opposite lobes, with no net change of velocity and no
     displacement left behind. Smooth at any sample rate of 200 Hz or more.
@@ -201,7 +206,7 @@ def impulse_displacement(
             the two nearest can reach a sample).
         peak: (N,) acceleration peak of each pulse.
         sigma_s: the pulse's width σ (the soft tissue between an impact and
-            what it jolts spreads it: the pelvis ≈ 15 ms, a pocket on the thigh more).
+            what it jolts spreads it: the trunk ≈ 30 ms, a pocket on the thigh 35 ms).
     """
     out = np.zeros(len(t))
     if len(t_hs) == 0:

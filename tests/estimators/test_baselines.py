@@ -103,14 +103,19 @@ def test_pdr_basic_follows_an_ideal_handheld_walk(walk: Recording, context: Site
     est = make("pdr-basic")
     result = run_episode(est, walk, context, start_info(walk))
     truth = true_positions_at(walk, result.t)
-    # After a ~40 m walk with 2 turns: the un-calibrated Weinberg K lengthens the
-    # steps of this walker by about a tenth (calibrating K is what the pipelines do).
-    assert np.linalg.norm(result.estimate[-1] - truth[-1]) < 5.0
+    # A ~40 m walk with 2 turns: the un-calibrated Weinberg K lengthens the steps of
+    # this walker by some 15 % (calibrating K is what the pipelines do), and the end
+    # lands about that share of the walk away.
+    walked = np.linalg.norm(np.diff(truth, axis=0), axis=1).sum()
+    travelled = np.linalg.norm(np.diff(result.estimate, axis=0), axis=1).sum()
+    assert 1.05 < travelled / walked < 1.25
+    assert np.linalg.norm(result.estimate[-1] - truth[-1]) < 0.2 * walked
     assert abs(est.step_count - len(walk.steps)) <= 0.05 * len(walk.steps)  # as on real walks
     true_heading = walk.truth["heading"].iloc[-1]
     # The gyro heading drifts with the coning of a nodding, rocking hand (real handheld
-    # phones: up to ±3°/stride, leaderboards/realism.md): over 30 strides, some 10–20°.
-    assert abs(np.angle(np.exp(1j * (est.heading - true_heading)))) < np.radians(25.0)
+    # phones: up to ±3°/stride, typically ±0.3–0.8, leaderboards/realism.md; this
+    # walker 1°/stride): over 30 strides, some 10–30°.
+    assert abs(np.angle(np.exp(1j * (est.heading - true_heading)))) < np.radians(40.0)
 
 
 def test_pdr_basic_without_fused_gravity_uses_the_accelerometer(

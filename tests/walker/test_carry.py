@@ -93,17 +93,31 @@ def test_light_exposure_by_mode(straight_phones):
     assert 0.001 <= np.median(straight_phones["pocketed"].light_exposure) <= 0.005
 
 
-def test_swinging_and_pocket_turn_far_faster_than_a_held_phone(straight_body, straight_phones):
-    # Real phones (gyro RMS per axis while walking, leaderboards/realism.md): held
-    # 0.4-1.5 / 0.25-0.7 / 0.17-0.5 rad/s, in a pocket 1.35-1.45 / 1-1.3 / 0.8-0.9,
-    # swinging about 3.5 / 2 / 1.8: about 2.4 and 5 times a held phone's rate.
+# Real phones (gyro RMS per axis while walking, leaderboards/realism.md): held
+# 0.4-1.5 / 0.25-0.7 / 0.17-0.5 rad/s (median 1.0 / 0.5 / 0.2), in a pocket
+# 1.35-1.45 / 1-1.3 / 0.8-0.9, swinging about 3.5 / 2 / 1.8: about 1.8 and 4 times
+# a held phone's rate.
+
+
+def _walking_rates(straight_body, straight_phones) -> dict[str, float]:
     steady = _steady(straight_body)[1:]
-    rms = {m: np.sqrt(np.mean(_rates_dps(p)[steady] ** 2)) for m, p in straight_phones.items()}
+    return {m: np.sqrt(np.mean(_rates_dps(p)[steady] ** 2)) for m, p in straight_phones.items()}
+
+
+def test_a_swinging_phone_turns_far_faster_than_a_held_one(straight_body, straight_phones):
+    rms = _walking_rates(straight_body, straight_phones)
     assert rms["dangling"] > 2 * rms["handheld"]
-    # The simulated pocket turns slower than the real one on its two smaller axes
-    # (leaderboards/realism.md); the ratio holds at 1.2.
-    assert rms["pocketed"] > 1.2 * rms["handheld"]
     assert rms["calling"] < rms["dangling"]
+
+
+@pytest.mark.xfail(
+    reason="the simulated pocket turns slower than real ones on its two smaller axes "
+    "(0.6 / 0.45 rad/s against 1-1.3 / 0.8-0.9, leaderboards/realism.md): issue 15",
+    strict=False,
+)
+def test_a_pocketed_phone_turns_faster_than_a_held_one(straight_body, straight_phones):
+    rms = _walking_rates(straight_body, straight_phones)
+    assert rms["pocketed"] > 1.4 * rms["handheld"]
 
 
 def test_motion_is_smooth_enough_to_differentiate_twice(l_plan, room_to_corridor_end):

@@ -233,7 +233,9 @@ def test_calibrated_handheld_lengths_match_on_another_walk(corridor: indoorsim.S
     train, test = walk(3), walk(4)
     dr = GaitDeadReckoning()
     scale = dr.calibrate(*train)
-    assert 1.0 < scale < 1.5  # the hand damps the trunk's bounce: L = 1.2 m reads short
+    # The hand rides the trunk's bounce (and its heel-strike jolts) close to one to one,
+    # so the inverted pendulum of L = 1.2 m needs little scaling either way.
+    assert 0.8 < scale < 1.25
     s_vd = [s.vertical_displacement for s in test[0]]
     lengths = scale * pendulum_step_length(s_vd, dr.pendulum_length)
     assert lengths.sum() == pytest.approx(test[1].sum(), rel=0.03)
