@@ -591,7 +591,8 @@ class Dangling(CarryMode):
     double pendulum), so the hand swings further and faster than the shoulder,
     and it pronates as the arm swings back and supinates forward. The hand
     hangs from the wrist in the same way, whipped on by the forearm. The phone
-    is gripped with its top forward and its screen facing outward.
+    lies diagonally across the palm, its top forward and down and its screen
+    outward, the palm turned a little back.
     """
 
     name: ClassVar[str] = "dangling"
@@ -599,6 +600,17 @@ class Dangling(CarryMode):
     """The hand holding the phone."""
     swing_deg: float | None = None
     """Swing amplitude about the shoulder; None draws it from 15–25° per use."""
+    palm_turn_deg: tuple[float, float] = (20.0, 45.0)
+    """Range of the hand's turn about the forearm, from the palm facing the thigh
+    toward facing back (a relaxed, hanging forearm is a little pronated), drawn
+    per use [E]. It tips the screen's normal off the swing's axis, so the swing
+    shows on the phone's other axes too."""
+    diagonal_deg: tuple[float, float] = (20.0, 50.0)
+    """Range of the phone's slant across the palm, its top from pointing forward
+    toward pointing down the fingers (curled fingers hold an object diagonally
+    across the palm, the oblique palmar grip), drawn per use [E]. With the palm's
+    turn the swing's rate spreads over the phone's axes about as real swinging
+    phones show it (≈ 3.5 / 2.0 / 1.8 rad/s: 0.8 / 0.45 / 0.4 of the whole)."""
     grip_deg: float = 8.0
     """SD of the grip's misalignment about each axis, drawn per use [E]."""
     damping_ratio: float = 0.25
@@ -682,7 +694,12 @@ class Dangling(CarryMode):
         # At the bottom of the swing: x down (right hand) or up (left), y
         # forward, z outward.
         base = limbs.from_axes([0.0, 0.0, side], [1.0, 0.0, 0.0], [0.0, side, 0.0])
-        grip = limbs.from_rotvec(np.radians(rng.normal(0.0, self.grip_deg, 3)))
+        # The palm turned back about the forearm (x), the phone slanted across it (z).
+        grip = limbs.compose(
+            limbs.about("x", side * math.radians(rng.uniform(*self.palm_turn_deg))),
+            limbs.about("z", side * math.radians(rng.uniform(*self.diagonal_deg))),
+            limbs.from_rotvec(np.radians(rng.normal(0.0, self.grip_deg, 3))),
+        )
         rot = limbs.compose(
             frame, arc, limbs.about("y", -hand), limbs.about("z", side * twist), base, grip
         )
