@@ -157,6 +157,7 @@ _REALISM_CURVES = (
     ("accel_psd", "‖a‖ spectrum", "frequency (Hz)", "power ((m/s²)²/Hz)"),
     ("gyro_psd", "‖ω‖ spectrum", "frequency (Hz)", "power ((rad/s)²/Hz)"),
     ("accel_hist", "‖a‖ while walking", "‖a‖ (m/s²)", "density"),
+    ("accel_stride", "‖a‖ over a stride", "strides from the stride's largest peak", "‖a‖ (m/s²)"),
 )
 
 

@@ -121,11 +121,13 @@ def test_realism_profiles_put_real_beside_simulated_per_mode_and_curve():
         )
 
     real = table(["handheld"], ["accel_psd", "accel_hist"], 3)
-    sim = table(["handheld", "pocketed"], ["accel_psd", "gyro_psd", "accel_hist"], 2)
+    curves = ["accel_psd", "gyro_psd", "accel_hist", "accel_stride"]
+    sim = table(["handheld", "pocketed"], curves, 2)
     fig = plot_realism_profiles(real, sim)
-    assert len(fig.axes) == 6  # two modes × three curves
+    assert len(fig.axes) == 8  # two modes × four curves
     handheld_psd = fig.axes[0]
     assert handheld_psd.get_yscale() == "log"
     assert [line.get_label() for line in handheld_psd.get_lines()] == ["real (3)", "simulated (2)"]
-    pocket_gyro = fig.axes[4]
+    assert fig.axes[3].get_yscale() == "linear"  # the stride profile
+    pocket_gyro = fig.axes[5]
     assert [line.get_label() for line in pocket_gyro.get_lines()] == ["simulated (2)"]

@@ -60,7 +60,7 @@ COMPARED: dict[str, str] = {
     "gyro_rms_2": "gyro RMS, middle axis (rad/s)",
     "gyro_rms_3": "gyro RMS, smallest axis (rad/s)",
     "heading_jitter": "fused heading jitter (°)",
-    "gyro_drift": "size of the gyro heading drift |∫ω·ĝ| (°/stride)",
+    "gyro_drift": "gyro heading drift ∫ω·ĝ, its size (°/stride)",
 }
 """The statistics judged, with their labels (``walking_s`` is shown, not judged)."""
 

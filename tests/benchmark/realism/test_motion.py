@@ -8,7 +8,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_statistics, uniform_stream
+from indoorsim.benchmark.realism.motion import (
+    MOTION_KEYS,
+    motion_profiles,
+    motion_statistics,
+    uniform_stream,
+)
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
 from indoorsim.simulate import simulate
@@ -54,6 +59,24 @@ def test_a_sinusoidal_walk_gives_the_closed_form_statistics():
     assert s["share_step"] > 0.99 and s["share_2nd"] < 0.01 and s["share_stride"] < 0.01
     assert s["gyro_rms_1"] == pytest.approx(0.0, abs=1e-9)
     assert s["heading_jitter"] == pytest.approx(0.0, abs=1e-3)
+
+
+def test_the_stride_profile_of_a_lopsided_walk_is_its_waveform():
+    # One foot's steps jolt harder: ‖a‖ = g + 2·cos(2π·2f·t) + 3·cos(2π·f·t) at the
+    # stride rate f, largest at t = 0 of each stride.
+    stride_hz, rate = 0.9, 200.0
+    t = np.arange(0, 60.0, 1 / rate)
+    phase = 2 * np.pi * stride_hz * t
+    z = 9.81 + 2 * np.cos(2 * phase) + 3 * np.cos(phase)
+    zeros = np.zeros_like(t)
+    rec = Recording(
+        streams={"accel": _frame(t, np.column_stack([zeros, zeros, z]), ["x", "y", "z"])},
+        meta={},
+    )
+    x, y = motion_profiles(rec)["accel_stride"]
+    assert x[0] == -0.5 and x[-1] == 1.5
+    expected = 9.81 + 2 * np.cos(4 * np.pi * x) + 3 * np.cos(2 * np.pi * x)
+    np.testing.assert_allclose(y, expected, atol=0.05)
 
 
 def test_a_still_phone_has_no_walking_and_no_statistics():

@@ -73,7 +73,7 @@ def test_every_modelled_mode_is_simulated_and_every_statistic_measured():
     sim, curves = simulate_motion(config)
     assert sorted(sim["mode"]) == sorted(config.modes)
     assert set(COMPARED) <= set(sim.columns)
-    assert set(curves["curve"]) == {"accel_psd", "gyro_psd", "accel_hist"}
+    assert set(curves["curve"]) == {"accel_psd", "gyro_psd", "accel_hist", "accel_stride"}
 
 
 @pytest.mark.skipif(not REALDATA.is_dir(), reason=f"no real data at {REALDATA}")
