@@ -16,6 +16,7 @@ import math
 import pandas as pd
 import pytest
 
+from indoorsim.benchmark.realism.motion import motion_statistics
 from indoorsim.benchmark.realism.reference import MODELLED_MODES, load_real_motion
 from indoorsim.benchmark.realism.report import (
     COMPARED,
@@ -24,6 +25,8 @@ from indoorsim.benchmark.realism.report import (
     real_range,
     simulate_motion,
 )
+from indoorsim.scenario.load import load_site
+from indoorsim.simulate import simulate
 
 INSIDE = {
     "handheld": {
@@ -101,3 +104,23 @@ def test_the_simulated_median_lies_inside_the_real_range_on_every_site(compariso
     assert row["sites_inside"] == sites, (
         f"{mode} {key}: real {row['real_low']:.3g}–{row['real_high']:.3g}, outside on {outside}"
     )
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_pocket_drift_turns_with_the_pockets_side(seed: int):
+    # The thigh's roll and twist mirror with the side, so the coning that turns the
+    # gyro heading does too: real pockets drift either way, by their side.
+    site = load_site("han2023_corridor")
+    drift = {
+        side: motion_statistics(
+            simulate(
+                site,
+                route="trajectory",
+                mode=[(0.0, "pocketed", {"side": side})],
+                device=RealismConfig().device,
+                seed=seed,
+            )
+        )["gyro_drift"]
+        for side in ("left", "right")
+    }
+    assert drift["left"] < -0.3 and drift["right"] > 0.3
