@@ -53,7 +53,7 @@ def add_realism(subparsers: Subparsers) -> None:
         type=seed_number,
         default=None,
         metavar="N",
-        help="seeds per site and mode (default: the leaderboard's, five)",
+        help="seeds per site and mode (default: as many as the leaderboard takes)",
     )
     parser.add_argument(
         "--mode",

@@ -233,8 +233,8 @@ def write_report(
         f"each site's median over {n_seeds} seeds (the gyro heading drift by its size, "
         "real and simulated: its sign goes with the pocket's side); ✓ inside the real "
         "range, ✗ outside. "
-        "`realism_motion.png` overlays the real and simulated ‖a‖ and ‖ω‖ spectra and "
-        "‖a‖ histograms of each mode.",
+        "`realism_motion.png` overlays the real and simulated ‖a‖ and ‖ω‖ spectra, "
+        "‖a‖ histograms and ‖a‖ over a stride of each mode.",
         "",
         markdown(table, sites),
     ]
