@@ -92,6 +92,13 @@ FORMATS: list[LogFormat] = [
         detector=f"{_READERS}.sensor_logger:looks_like_sensor_logger",
         reader=f"{_READERS}.sensor_logger:read_sensor_logger",
     ),
+    LogFormat(
+        name="mag-slam-1d",
+        description="1-D magnetic-field SLAM walk (*.mat with t, tm, m, dPos: magnetometer "
+        "and ARKit positions)",
+        detector=f"{_READERS}.mag_slam:looks_like_mag_slam_walk",
+        reader=f"{_READERS}.mag_slam:read_mag_slam_walk",
+    ),
 ]
 """The formats, checked in this order by :func:`detect_format`."""
 

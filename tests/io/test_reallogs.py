@@ -16,6 +16,7 @@ from indoorsim.io.reallogs import (
     carry_mode,
     detect_format,
     read_ilc_trace,
+    read_mag_slam_walk,
     read_oxford_validation,
     read_sensor_logger,
 )
@@ -364,3 +365,45 @@ def test_sensor_logger_missing_column_is_named(tmp_path: Path):
 def test_docstring_examples_run():
     result = doctest.testmod(indoorsim.io.reallogs.common)
     assert result.attempted > 0 and result.failed == 0
+
+
+# --- 1-D magnetic-field SLAM walks (MATLAB files) ---
+
+
+def _write_mag_slam(path: Path, n: int = 50, **drop: bool) -> Path:
+    from scipy.io import savemat
+
+    t = np.arange(n) * 0.1
+    step = np.tile([0.1, 0.0, 0.0], (n - 1, 1))  # 1 m/s along x
+    data = {"t": t[:, None], "tm": (t + 0.002)[:, None], "m": np.tile([20.0, 0.0, 40.0], (n, 1))}
+    data |= {"dPos": step, "quat": np.tile([1.0, 0, 0, 0], (n, 1))}
+    for name in drop:
+        data.pop(name)
+    savemat(path, data)
+    return path
+
+
+def test_mag_slam_mapping_on_a_small_walk(tmp_path: Path):
+    rec = Recording.load(_write_mag_slam(tmp_path / "walk.mat"))
+    assert rec.meta["source"]["format"] == "mag-slam-1d" and rec.meta["mode"] == "handheld"
+    assert set(rec.streams) == {"mag", "waypoints"}
+    np.testing.assert_allclose(rec.waypoints["x"].iloc[[0, -1]], [0.0, 4.9])
+    np.testing.assert_allclose(rec.mag.index[:2], [0.002, 0.102])
+    assert rec.meta["rates_hz"]["mag"] == pytest.approx(10.0)
+
+
+def test_mag_slam_missing_variable_is_named(tmp_path: Path):
+    path = _write_mag_slam(tmp_path / "walk.mat", dPos=True)
+    with pytest.raises(RecordingError, match=r"missing \['dPos'\]"):
+        read_mag_slam_walk(path)
+
+
+@pytest.mark.skipif(not REALDATA.is_dir(), reason=f"no real data at {REALDATA}")
+def test_mag_slam_walks_match_their_readme():
+    # Path lengths and ‖m‖ mean from shared/realdata/mag-slam-1d/README.md.
+    expected = {"eight": (46.4, 45.8), "library": (170.7, 45.7), "mall": (345.8, 46.6)}
+    for name, (length, mean) in expected.items():
+        rec = Recording.load(REALDATA / "mag-slam-1d" / f"{name}.mat")
+        xy = rec.waypoints[["x", "y"]].to_numpy()
+        assert np.hypot(*np.diff(xy, axis=0).T).sum() == pytest.approx(length, abs=0.1)
+        assert np.linalg.norm(rec.mag.to_numpy(), axis=1).mean() == pytest.approx(mean, abs=0.05)

@@ -3,4 +3,9 @@
 * :mod:`~indoorsim.benchmark.realism.stats` — signal statistics as pure
   functions of arrays (crest factor, kurtosis, harmonic shares, per-axis RMS,
   walking detection), tested on signals with closed-form answers.
+* :mod:`~indoorsim.benchmark.realism.motion` — a recording's walking statistics.
+* :mod:`~indoorsim.benchmark.realism.magnetic` — ‖m‖ against the distance walked:
+  its amplitude, wavelength bands and correlation length.
+* :mod:`~indoorsim.benchmark.realism.reference` — the real side, measured and committed.
+* :mod:`~indoorsim.benchmark.realism.report` — simulated beside real: ``realism.md``.
 """

@@ -7,6 +7,8 @@ per walk, with the data set and its licence. The result is committed as
 ``real_motion.csv`` beside this module, so that the comparison runs where the
 raw files are absent; :func:`load_real_motion` reads it and
 ``indoorsim realism --refresh-reference`` writes it again from the raw files.
+:func:`real_magnetic_table` does the same for the field along the path of every
+real walk with a magnetometer and known positions (``real_magnetic.csv``).
 
 Some statistics need streams no local real log of that mode has (a gyroscope
 in a pocket, a phone at the ear): :data:`QUOTED_RANGES` holds the real ranges
@@ -23,24 +25,31 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from indoorsim.benchmark.realism.magnetic import MAGNETIC_KEYS, magnetic_statistics
 from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_profiles, motion_statistics
 from indoorsim.io.recording import Recording
 
 __all__ = [
+    "MAGNETIC_MODE",
+    "MAGNETIC_SOURCES",
     "QUOTED_RANGES",
+    "REAL_MAGNETIC_CSV",
     "REAL_MOTION_CSV",
     "REAL_PROFILES_CSV",
     "REAL_SOURCES",
     "RealSource",
+    "load_real_magnetic",
     "load_real_motion",
     "load_real_profiles",
     "mean_profiles",
+    "real_magnetic_table",
     "real_motion_table",
     "real_profiles",
 ]
 
 REAL_MOTION_CSV = Path(__file__).with_name("real_motion.csv")
 REAL_PROFILES_CSV = Path(__file__).with_name("real_profiles.csv")
+REAL_MAGNETIC_CSV = Path(__file__).with_name("real_magnetic.csv")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -74,6 +83,25 @@ REAL_SOURCES = (
         phone="Samsung Galaxy S6, 100 Hz, accelerometer only",
     ),
 )
+
+MAGNETIC_SOURCES = (
+    RealSource(
+        name="mag-slam-1d",
+        pattern="mag-slam-1d/*.mat",
+        licence="MIT (Kok & Solin 2024)",
+        phone="iPad, handheld, magnetometer 10 Hz + ARKit positions",
+    ),
+    RealSource(
+        name="ms-indoor-location-2020",
+        pattern="ms-indoor-location-2020/site1/F1/path_data_files/*.txt",
+        licence="MIT (XYZ10 / Microsoft Research)",
+        phone="OPPO PBCM10, held flat, 50 Hz; positions between surveyed waypoints",
+    ),
+)
+"""Real walks with a magnetometer and known positions along the path."""
+
+MAGNETIC_MODE = "magnetic"
+"""The ``mode`` of the magnetic rows: the field is the building's, whatever the carry."""
 
 MODELLED_MODES = ("handheld", "calling", "dangling", "pocketed")
 
@@ -109,9 +137,17 @@ QUOTED_RANGES: dict[tuple[str, str], tuple[float, float]] = {
     ("pocketed", "share_stride"): (0.0, 0.02),
     ("handheld", "heading_jitter"): (1.8, 6.8),
     ("pocketed", "gyro_drift"): (0.0, 2.0),  # 0 to 2 °/stride, either sign with the pocket's side
+    # The "Environment realism" issue's magnetic rows (ARKit walks and the MS traces).
+    (MAGNETIC_MODE, "share_long"): (0.64, 0.82),
+    (MAGNETIC_MODE, "std_long"): (2.0, 8.0),
+    (MAGNETIC_MODE, "std_mid"): (1.4, 4.6),
+    (MAGNETIC_MODE, "std_short"): (0.2, 1.1),
+    (MAGNETIC_MODE, "corr_length"): (1.8, 4.7),
+    (MAGNETIC_MODE, "mag_std"): (1.7, 9.5),
 }
-"""Real ranges quoted from the "Motion realism" issue (real walks measured by the review
-that opened it, some from data sets not in the real-data folder), by (mode, statistic).
+"""Real ranges quoted from the "Motion realism" and "Environment realism" issues (real
+walks measured by the reviews that opened them, some from data sets not in the real-data
+folder), by (mode, statistic).
 Its peak-to-peak figures are left out: they were taken at each log's own rate over whole
 walks, not per stride at the common rate. Its dangling gyro figures are single values
 (≈ 3.5 / 2.0 / 1.8 rad/s), given here ±15 %, the spread of its other dangling figures.
@@ -144,6 +180,31 @@ def real_motion_table(realdata: Path) -> pd.DataFrame:
         for source, path, rec, mode in _real_walks(realdata)
     ]
     return pd.DataFrame(rows, columns=["dataset", "walk", "mode", "phone", "licence", *MOTION_KEYS])
+
+
+def real_magnetic_table(realdata: Path) -> pd.DataFrame:
+    """Along-path field statistics of every real walk with a magnetometer and positions,
+    one row per walk (walks shorter than
+    :data:`~indoorsim.benchmark.realism.magnetic.MIN_PATH_M` get NaN statistics)."""
+    rows = [
+        {
+            "dataset": source.name,
+            "walk": path.name,
+            "mode": MAGNETIC_MODE,
+            "phone": source.phone,
+            "licence": source.licence,
+            **magnetic_statistics(Recording.load(path)),
+        }
+        for source in MAGNETIC_SOURCES
+        for path in sorted(realdata.glob(source.pattern))
+    ]
+    columns = ["dataset", "walk", "mode", "phone", "licence", *MAGNETIC_KEYS]
+    return pd.DataFrame(rows, columns=columns)
+
+
+def load_real_magnetic(path: Path = REAL_MAGNETIC_CSV) -> pd.DataFrame:
+    """The committed table of :func:`real_magnetic_table`."""
+    return pd.read_csv(path)
 
 
 def mean_profiles(labelled: list[tuple[str, Recording]]) -> pd.DataFrame:

@@ -10,6 +10,8 @@ Formats (each reader's docstring gives its full mapping):
   (``<user>_<position>_<unix-ms>.csv``): :func:`read_oxford_validation`.
 * ``sensor-logger`` — CSV exports (folder or ``.zip``) of the "Sensor Logger"
   app by Kelvin Choi (tszheichoi): :func:`read_sensor_logger` (:mod:`.sensor_logger`).
+* ``mag-slam-1d`` — the 1-D magnetic-field SLAM walks (``*.mat``, magnetometer
+  and ARKit positions): :func:`read_mag_slam_walk` (:mod:`.mag_slam`).
 
 Conventions shared by every reader:
 
@@ -39,6 +41,7 @@ from __future__ import annotations
 from indoorsim.io.formats import FORMATS, LogFormat, detect_format, register_format
 from indoorsim.io.reallogs.common import carry_mode
 from indoorsim.io.reallogs.ilc import read_ilc_trace
+from indoorsim.io.reallogs.mag_slam import read_mag_slam_walk
 from indoorsim.io.reallogs.oxford import read_oxford_folder, read_oxford_validation
 from indoorsim.io.reallogs.sensor_logger import read_sensor_logger
 
@@ -48,6 +51,7 @@ __all__ = [
     "carry_mode",
     "detect_format",
     "read_ilc_trace",
+    "read_mag_slam_walk",
     "read_oxford_folder",
     "read_oxford_validation",
     "read_sensor_logger",

@@ -8,21 +8,27 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from indoorsim.benchmark.realism.magnetic import MAGNETIC_KEYS
 from indoorsim.benchmark.realism.motion import MOTION_KEYS
 from indoorsim.benchmark.realism.reference import (
     QUOTED_RANGES,
+    load_real_magnetic,
     load_real_motion,
     load_real_profiles,
+    real_magnetic_table,
     real_motion_table,
     real_profiles,
 )
 from indoorsim.benchmark.realism.report import (
     COMPARED,
+    COMPARED_MAGNETIC,
     RealismConfig,
     compare,
     markdown,
     real_range,
+    simulate_magnetic,
     simulate_motion,
+    write_report,
 )
 from tests.conftest import REALDATA
 
@@ -81,3 +87,30 @@ def test_the_committed_real_profiles_are_what_the_real_logs_give():
     fresh, committed = real_profiles(REALDATA), load_real_profiles()
     assert list(fresh["curve"]) == list(committed["curve"])
     np.testing.assert_allclose(fresh["y"], committed["y"], rtol=1e-5, atol=1e-12)
+
+
+@pytest.mark.skipif(not REALDATA.is_dir(), reason=f"no real data at {REALDATA}")
+def test_the_committed_real_field_table_is_what_the_real_logs_give():
+    fresh, committed = real_magnetic_table(REALDATA), load_real_magnetic()
+    assert list(fresh["walk"]) == list(committed["walk"])
+    for key in MAGNETIC_KEYS:
+        np.testing.assert_allclose(fresh[key], committed[key], rtol=1e-5, err_msg=key)
+
+
+def test_the_field_is_measured_on_each_sites_longest_route_and_reported(tmp_path):
+    config = RealismConfig(
+        bundled=("han2023_corridor",), generated=(), field_generated=(), seeds=(0, 1)
+    )
+    field = simulate_magnetic(config)
+    assert list(field["seed"]) == [0, 1] and set(field["route"]) == {"trajectory"}
+    assert field[list(COMPARED_MAGNETIC)].notna().all().all()
+    motion = pd.DataFrame({"site": ["s"], "mode": ["handheld"], "seed": [0]})
+    motion = motion.assign(**{k: 1.0 for k in MOTION_KEYS})
+    tables = write_report(
+        tmp_path, load_real_motion(), motion, real_field=load_real_magnetic(), sim_field=field
+    )
+    magnetic = tables[tables["mode"] == "magnetic"]
+    assert list(magnetic["statistic"]) == list(COMPARED_MAGNETIC)
+    assert (magnetic["sites"] == 1).all()
+    text = (tmp_path / "realism.md").read_text()
+    assert "## Magnetic field" in text and "han2023_corridor: trajectory" in text
