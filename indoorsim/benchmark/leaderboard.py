@@ -132,7 +132,7 @@ class BoardConfig:
     real_data: bool = True
     paper_experiments: bool = True
     realism: bool = True
-    """Also write ``realism.md``: simulated phone motion beside real phones."""
+    """Also write ``realism.md``: simulated motion, field and WiFi beside real recordings."""
 
     @classmethod
     def quick(cls, scenarios: Sequence[str] | None = None) -> BoardConfig:
@@ -368,8 +368,8 @@ def write_readme(out: Path, tables: dict[str, pd.DataFrame]) -> None:
         parts += [
             "## Realism",
             "",
-            "Simulated phone motion beside real phones, statistic by statistic: "
-            "[realism.md](realism.md) (`indoorsim realism`).",
+            "Simulated phone motion, magnetic field and WiFi beside real recordings, "
+            "statistic by statistic: [realism.md](realism.md) (`indoorsim realism`).",
             "",
             "![realism](realism_motion.png)",
             "",

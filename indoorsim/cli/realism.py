@@ -1,8 +1,8 @@
-"""``indoorsim realism``: simulated phone motion measured beside real phones.
+"""``indoorsim realism``: simulated phones and buildings measured beside real recordings.
 
 Simulates walks in every carrying mode over bundled and generated sites and
-computes, with the same functions as on real logs, the statistics of
-:mod:`indoorsim.benchmark.realism`; writes ``realism.md`` (real range,
+computes, with the same functions as on real logs, the motion, magnetic and
+WiFi statistics of :mod:`indoorsim.benchmark.realism`; writes ``realism.md`` (real range,
 simulated value, inside or outside, per statistic and mode), the CSVs and the
 overlay plot.
 """

@@ -27,29 +27,41 @@ import pandas as pd
 
 from indoorsim.benchmark.realism.magnetic import MAGNETIC_KEYS, magnetic_statistics
 from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_profiles, motion_statistics
+from indoorsim.benchmark.realism.radio import (
+    RADIO_KEYS,
+    level_statistics,
+    radio_statistics,
+    static_spread,
+)
 from indoorsim.io.recording import Recording
 
 __all__ = [
     "MAGNETIC_MODE",
     "MAGNETIC_SOURCES",
     "QUOTED_RANGES",
+    "RADIO_MODE",
     "REAL_MAGNETIC_CSV",
     "REAL_MOTION_CSV",
     "REAL_PROFILES_CSV",
+    "REAL_RADIO_CSV",
     "REAL_SOURCES",
     "RealSource",
     "load_real_magnetic",
     "load_real_motion",
     "load_real_profiles",
+    "load_real_radio",
     "mean_profiles",
     "real_magnetic_table",
     "real_motion_table",
     "real_profiles",
+    "real_radio_table",
+    "uji_scans",
 ]
 
 REAL_MOTION_CSV = Path(__file__).with_name("real_motion.csv")
 REAL_PROFILES_CSV = Path(__file__).with_name("real_profiles.csv")
 REAL_MAGNETIC_CSV = Path(__file__).with_name("real_magnetic.csv")
+REAL_RADIO_CSV = Path(__file__).with_name("real_radio.csv")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -103,6 +115,13 @@ MAGNETIC_SOURCES = (
 MAGNETIC_MODE = "magnetic"
 """The ``mode`` of the magnetic rows: the field is the building's, whatever the carry."""
 
+RADIO_MODE = "wifi"
+"""The ``mode`` of the WiFi rows."""
+
+UJI_FOLDER = "uji-lib-longterm-wifi/db"
+UJI_LICENCE = "CC BY 4.0 (Mendoza-Silva et al. 2018)"
+_UJI_NOT_HEARD = 100.0
+
 MODELLED_MODES = ("handheld", "calling", "dangling", "pocketed")
 
 _ALL_MODES_QUOTED = {
@@ -144,6 +163,13 @@ QUOTED_RANGES: dict[tuple[str, str], tuple[float, float]] = {
     (MAGNETIC_MODE, "std_short"): (0.2, 1.1),
     (MAGNETIC_MODE, "corr_length"): (1.8, 4.7),
     (MAGNETIC_MODE, "mag_std"): (1.7, 9.5),
+    # Its WiFi rows: ILC traces and UJI fingerprints; APs per scan in offices, libraries
+    # and museums; the scan interval of a logging app.
+    (RADIO_MODE, "rss_mean"): (-87.0, -68.0),
+    (RADIO_MODE, "rss_p90"): (-80.0, -53.0),
+    (RADIO_MODE, "static_std"): (3.2, 4.4),
+    (RADIO_MODE, "aps_per_scan"): (14.0, 28.0),
+    (RADIO_MODE, "scan_interval"): (2.0, 4.0),
 }
 """Real ranges quoted from the "Motion realism" and "Environment realism" issues (real
 walks measured by the reviews that opened them, some from data sets not in the real-data
@@ -200,6 +226,57 @@ def real_magnetic_table(realdata: Path) -> pd.DataFrame:
     ]
     columns = ["dataset", "walk", "mode", "phone", "licence", *MAGNETIC_KEYS]
     return pd.DataFrame(rows, columns=columns)
+
+
+def uji_scans(folder: Path) -> pd.DataFrame:
+    """One UJI fingerprint set (``<folder>/<set>rss.csv`` and ``crd.csv``) as a table:
+    ``x``, ``y``, ``floor``, ``point`` (an id per reference point) and one column per AP
+    (dBm, NaN where not heard — the files' 100)."""
+    name = folder.name
+    rss = np.loadtxt(folder.parent / f"{name}rss.csv", delimiter=",")
+    crd = np.loadtxt(folder.parent / f"{name}crd.csv", delimiter=",")
+    if rss.ndim != 2 or crd.shape != (len(rss), 3):
+        raise ValueError(f"{folder}: rss {rss.shape} and crd {crd.shape} do not line up")
+    table = pd.DataFrame(np.where(rss == _UJI_NOT_HEARD, np.nan, rss))
+    table.columns = [f"ap{j:03d}" for j in range(rss.shape[1])]
+    where = pd.DataFrame(crd, columns=["x", "y", "floor"])
+    where["point"] = where.groupby(["x", "y", "floor"], sort=False).ngroup()
+    return pd.concat([where, table], axis=1)
+
+
+def real_radio_table(realdata: Path) -> pd.DataFrame:
+    """WiFi statistics of the real logs, one row per walk or fingerprint set.
+
+    * ILC traces (walking, a mall floor): levels and scan interval. Their APs per
+      scan are left out: a mall's 150–480 results per scan, cached ones included,
+      say nothing of the offices, corridors and halls simulated here.
+    * UJI library sets (standing, 12 repeats per point): levels, APs per scan and
+      the spread over repeats.
+    """
+    rows = []
+    ilc = MAGNETIC_SOURCES[1]
+    for path in sorted(realdata.glob(ilc.pattern)):
+        stats = radio_statistics(Recording.load(path))
+        stats["aps_per_scan"] = np.nan
+        rows.append({"dataset": ilc.name, "walk": path.name, "licence": ilc.licence} | stats)
+    for rss_file in sorted(realdata.glob(f"{UJI_FOLDER}/*/*rss.csv")):
+        name = rss_file.name.removesuffix("rss.csv")
+        scans = uji_scans(rss_file.parent / name)
+        aps = scans.filter(like="ap").to_numpy()
+        stats = dict.fromkeys(RADIO_KEYS, np.nan) | level_statistics(aps.ravel())
+        stats["aps_per_scan"] = float(np.median(np.isfinite(aps).sum(axis=1)))
+        stats["static_std"] = static_spread(aps, scans["point"].to_numpy())
+        walk = f"{rss_file.parent.name}/{name}"
+        rows.append(
+            {"dataset": "uji-lib-longterm-wifi", "walk": walk, "licence": UJI_LICENCE} | stats
+        )
+    columns = ["dataset", "walk", "mode", "licence", *RADIO_KEYS]
+    return pd.DataFrame(rows).assign(mode=RADIO_MODE).reindex(columns=columns)
+
+
+def load_real_radio(path: Path = REAL_RADIO_CSV) -> pd.DataFrame:
+    """The committed table of :func:`real_radio_table`."""
+    return pd.read_csv(path)
 
 
 def load_real_magnetic(path: Path = REAL_MAGNETIC_CSV) -> pd.DataFrame:

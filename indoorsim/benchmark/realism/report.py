@@ -5,8 +5,9 @@ generated sites and seeds and measures each walk with the same
 :func:`~indoorsim.benchmark.realism.motion.motion_statistics` as the real logs;
 :func:`compare` puts each (mode, statistic) beside its real range and says,
 per site, whether the site's median over seeds lies inside it;
-:func:`simulate_magnetic` does the same for the field along handheld walks
-(:mod:`~indoorsim.benchmark.realism.magnetic`);
+:func:`simulate_environment` does the same for the building's signals along
+handheld walks (:mod:`~indoorsim.benchmark.realism.magnetic`,
+:mod:`~indoorsim.benchmark.realism.radio`);
 :func:`write_report` writes the Markdown tables, the CSVs and overlay plots.
 """
 
@@ -19,39 +20,50 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from numpy.typing import NDArray
 
 from indoorsim.benchmark.realism.magnetic import MAGNETIC_KEYS, magnetic_statistics
 from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_statistics
+from indoorsim.benchmark.realism.radio import RADIO_KEYS, radio_statistics, static_spread
 from indoorsim.benchmark.realism.reference import (
     MAGNETIC_MODE,
     MODELLED_MODES,
     QUOTED_RANGES,
+    RADIO_MODE,
     REAL_MAGNETIC_CSV,
     REAL_MOTION_CSV,
     REAL_PROFILES_CSV,
+    REAL_RADIO_CSV,
     load_real_magnetic,
     load_real_motion,
     load_real_profiles,
+    load_real_radio,
     mean_profiles,
     real_magnetic_table,
     real_motion_table,
     real_profiles,
+    real_radio_table,
 )
+from indoorsim.phone.devices import get_device
+from indoorsim.phone.sensors import scan_rss
 from indoorsim.scenario.generate import generate
 from indoorsim.scenario.load import load_site
-from indoorsim.simulate import simulate
+from indoorsim.simulate import resolve_route, simulate
 from indoorsim.util.provenance import realdata_dir
+from indoorsim.util.seeding import generator
 from indoorsim.world.site import Site
 
 __all__ = [
     "COMPARED",
     "COMPARED_MAGNETIC",
+    "COMPARED_RADIO",
     "RealismConfig",
     "compare",
     "markdown",
     "run_realism",
-    "simulate_magnetic",
+    "simulate_environment",
     "simulate_motion",
+    "static_scans",
     "write_report",
 ]
 
@@ -82,6 +94,21 @@ COMPARED_MAGNETIC: dict[str, str] = {
     "mag_std": "‖m‖ std (µT)",
 }
 """The magnetic statistics judged (``path_m`` is recorded, not judged)."""
+
+COMPARED_RADIO: dict[str, str] = {
+    "rss_mean": "mean RSS of the APs heard (dBm)",
+    "rss_p90": "90th percentile of RSS heard (dBm)",
+    "aps_per_scan": "APs heard per scan",
+    "scan_interval": "scan interval (s)",
+    "static_std": "spread of repeated static scans, median per (point, AP) (dB)",
+}
+"""The WiFi statistics judged."""
+
+STATIC_POINTS = 48
+STATIC_REPEATS = 12
+"""Repeated static scans: 48 points × 12 scans, as in each UJI library set."""
+STATIC_HEIGHT_M = 1.2
+_STATIC_STREAM = 0x57A7  # spawn key of the static scans' random stream
 
 BY_SIZE = frozenset({"gyro_drift"})
 """Statistics judged by their size: the pocket's coning turns the gyro heading one way
@@ -143,10 +170,37 @@ def simulate_motion(
     return table, _pooled(profiles)
 
 
-def simulate_magnetic(
+def static_scans(
+    site: Site, points: NDArray[np.float64], device: str, seed: int
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """:data:`STATIC_REPEATS` scans standing at each of ``points`` (N, 2), held at
+    :data:`STATIC_HEIGHT_M`: (N·repeats, n_ap) levels (NaN: not heard) and each scan's point."""
+    spec = get_device(device).wifi
+    where = np.column_stack([points, np.full(len(points), STATIC_HEIGHT_M)])
+    mean = np.repeat(site.rss(where), STATIC_REPEATS, axis=0)
+    times = np.arange(len(mean)) * spec.scan_interval_s
+    heard = scan_rss(times, mean, site.radio.bssids, spec, generator(seed, (_STATIC_STREAM,)))
+    column = {b: j for j, b in enumerate(site.radio.bssids)}
+    levels = np.full(mean.shape, np.nan)
+    scan = np.searchsorted(times, heard["t"].to_numpy(dtype=float))
+    levels[scan, heard["bssid"].map(column).to_numpy()] = heard["rss"].to_numpy()
+    return levels, np.repeat(np.arange(len(points)), STATIC_REPEATS)
+
+
+def _route_points(site: Site, route: str, n: int) -> NDArray[np.float64]:
+    """``n`` points evenly spaced along a route's polyline."""
+    pts = np.asarray(resolve_route(site, route).points, dtype=float)
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+    at = np.linspace(0.0, s[-1], n)
+    return np.column_stack([np.interp(at, s, pts[:, 0]), np.interp(at, s, pts[:, 1])])
+
+
+def simulate_environment(
     config: RealismConfig = RealismConfig(), *, progress: Progress | None = None
 ) -> pd.DataFrame:
-    """Along-path field statistics of handheld walks (site × seed, one row each).
+    """The building's signals along handheld walks (site × seed, one row each): the
+    magnetic field's along-path statistics and the WiFi scans' statistics, plus the
+    spread of repeated static scans at points along the route.
 
     Each site is walked on its longest route (the real magnetic walks are
     46–346 m long, and the > 10 m band needs distance), held in the hand like
@@ -159,15 +213,19 @@ def simulate_magnetic(
             rec = simulate(site, route=route, mode="handheld", device=config.device, seed=0)
             lengths[route] = magnetic_statistics(rec)["path_m"]
         route = max(lengths, key=lengths.__getitem__)
+        points = _route_points(site, route, STATIC_POINTS)
         for seed in config.seeds:
             if progress:
-                progress(f"{label} magnetic seed {seed}")
+                progress(f"{label} environment seed {seed}")
             rec = simulate(site, route=route, mode="handheld", device=config.device, seed=seed)
+            levels, point = static_scans(site, points, config.device, seed)
             rows.append(
-                {"site": label, "mode": MAGNETIC_MODE, "seed": seed, "route": route}
+                {"site": label, "seed": seed, "route": route}
                 | magnetic_statistics(rec)
+                | radio_statistics(rec)
+                | {"static_std": static_spread(levels, point)}
             )
-    return pd.DataFrame(rows, columns=["site", "mode", "seed", "route", *MAGNETIC_KEYS])
+    return pd.DataFrame(rows, columns=["site", "seed", "route", *MAGNETIC_KEYS, *RADIO_KEYS])
 
 
 def _pooled(profiles: list[pd.DataFrame]) -> pd.DataFrame:
@@ -191,7 +249,7 @@ def real_range(real: pd.DataFrame, mode: str, key: str) -> tuple[float, float, s
     if len(values):
         lows.append(float(values.min()))
         highs.append(float(values.max()))
-        sources.append(f"{len(values)} real walks")
+        sources.append(f"{len(values)} real logs")
     if quoted is not None:
         lows.append(quoted[0])
         highs.append(quoted[1])
@@ -269,14 +327,17 @@ def write_report(
     sim_curves: pd.DataFrame | None = None,
     *,
     real_field: pd.DataFrame | None = None,
-    sim_field: pd.DataFrame | None = None,
+    real_radio: pd.DataFrame | None = None,
+    sim_env: pd.DataFrame | None = None,
 ) -> pd.DataFrame:
     """``realism.md``, ``realism_motion.csv`` (the comparison), ``realism_sim_walks.csv``,
     with profiles given ``realism_motion.png`` (real and simulated curves overlaid), and
-    with the field tables given ``realism_magnetic.csv`` and ``realism_sim_field.csv``.
+    with the environment tables given ``realism_environment.csv`` (the comparison) and
+    ``realism_sim_environment.csv``.
 
     Returns:
-        The comparison tables, motion then magnetic, one row per (mode, statistic).
+        The comparison tables, motion then magnetic then WiFi, one row per
+        (mode, statistic).
     """
     out.mkdir(parents=True, exist_ok=True)
     if real_curves is not None and sim_curves is not None:
@@ -310,14 +371,16 @@ def write_report(
         markdown(table, sites),
     ]
     tables = [table]
-    if real_field is not None and sim_field is not None:
-        field = compare(real_field, sim_field, COMPARED_MAGNETIC)
-        field_sites = list(dict.fromkeys(sim_field["site"]))
-        field.to_csv(out / "realism_magnetic.csv", index=False)
-        sim_field.to_csv(out / "realism_sim_field.csv", index=False)
-        measured = real_field.dropna(subset=["mag_std"])
-        counts = measured.groupby("dataset").size().to_dict()
-        routes = sim_field.groupby("site", sort=False)["route"].first()
+    if real_field is not None and real_radio is not None and sim_env is not None:
+        field = compare(real_field, sim_env.assign(mode=MAGNETIC_MODE), COMPARED_MAGNETIC)
+        radio = compare(real_radio, sim_env.assign(mode=RADIO_MODE), COMPARED_RADIO)
+        env_sites = list(dict.fromkeys(sim_env["site"]))
+        pd.concat([field, radio]).to_csv(out / "realism_environment.csv", index=False)
+        sim_env.to_csv(out / "realism_sim_environment.csv", index=False)
+        counts = real_field.dropna(subset=["mag_std"]).groupby("dataset").size().to_dict()
+        routes = sim_env.groupby("site", sort=False)["route"].first()
+        walks = int(sim_env.groupby("site").size().median())
+        radio_counts = real_radio.groupby("dataset").size().to_dict()
         lines += [
             "## Magnetic field",
             "",
@@ -327,13 +390,27 @@ def write_report(
             + ", ".join(f"{n} from {d}" for d, n in sorted(counts.items()))
             + "; mag-slam-1d: handheld iPad with ARKit positions, MIT; ILC traces: positions "
             "between the surveyed waypoints), joined with the ranges quoted by the "
-            "Environment realism issue. Simulated: each site's median over "
-            f"{int(sim_field.groupby('site').size().median())} handheld walks of its longest "
-            "route (" + ", ".join(f"{site}: {route}" for site, route in routes.items()) + ").",
+            f"Environment realism issue. Simulated: each site's median over {walks} handheld "
+            "walks of its longest route ("
+            + ", ".join(f"{site}: {route}" for site, route in routes.items())
+            + ").",
             "",
-            markdown(field, field_sites, COMPARED_MAGNETIC),
+            markdown(field, env_sites, COMPARED_MAGNETIC),
+            "## WiFi",
+            "",
+            "The same statistics (`indoorsim.benchmark.realism.radio`) of the scans a phone "
+            "reports. Real range: min–max over "
+            + ", ".join(f"{n} from {d}" for d, n in sorted(radio_counts.items()))
+            + " (ILC traces: walking on a mall floor, MIT — their APs per scan, 150–480 with "
+            "cached results, are not compared with offices; UJI library: 48 points × 12 "
+            "standing scans per set, CC BY 4.0), joined with the ranges quoted by the "
+            "Environment realism issue. Simulated: the same handheld walks, and "
+            f"{STATIC_REPEATS} scans standing at each of {STATIC_POINTS} points along the "
+            f"route, {STATIC_HEIGHT_M} m above the floor.",
+            "",
+            markdown(radio, env_sites, COMPARED_RADIO),
         ]
-        tables.append(field)
+        tables += [field, radio]
     (out / "realism.md").write_text("\n".join(lines) + "\n")
     return pd.concat(tables, ignore_index=True)
 
@@ -358,22 +435,30 @@ def run_realism(
         progress: called with a line of text before each simulated walk.
 
     Returns:
-        The comparison tables (one row per mode and statistic; the magnetic rows have
-        mode ``"magnetic"``).
+        The comparison tables (one row per mode and statistic; the magnetic and WiFi rows
+        have mode ``"magnetic"`` and ``"wifi"``).
     """
     if realdata is not None or refresh_reference:
         folder = realdata_dir(realdata)
         real, real_curves = real_motion_table(folder), real_profiles(folder)
-        real_field = real_magnetic_table(folder)
+        real_field, real_radio = real_magnetic_table(folder), real_radio_table(folder)
         if refresh_reference:
             real.to_csv(REAL_MOTION_CSV, index=False, float_format="%.6g")
             real_curves.to_csv(REAL_PROFILES_CSV, index=False, float_format="%.6g")
             real_field.to_csv(REAL_MAGNETIC_CSV, index=False, float_format="%.6g")
+            real_radio.to_csv(REAL_RADIO_CSV, index=False, float_format="%.6g")
     else:
         real, real_curves = load_real_motion(), load_real_profiles()
-        real_field = load_real_magnetic()
+        real_field, real_radio = load_real_magnetic(), load_real_radio()
     sim, sim_curves = simulate_motion(config, progress=progress)
-    sim_field = simulate_magnetic(config, progress=progress)
+    sim_env = simulate_environment(config, progress=progress)
     return write_report(
-        out, real, sim, real_curves, sim_curves, real_field=real_field, sim_field=sim_field
+        out,
+        real,
+        sim,
+        real_curves,
+        sim_curves,
+        real_field=real_field,
+        real_radio=real_radio,
+        sim_env=sim_env,
     )

@@ -10,23 +10,27 @@ import pytest
 
 from indoorsim.benchmark.realism.magnetic import MAGNETIC_KEYS
 from indoorsim.benchmark.realism.motion import MOTION_KEYS
+from indoorsim.benchmark.realism.radio import RADIO_KEYS
 from indoorsim.benchmark.realism.reference import (
     QUOTED_RANGES,
     load_real_magnetic,
     load_real_motion,
     load_real_profiles,
+    load_real_radio,
     real_magnetic_table,
     real_motion_table,
     real_profiles,
+    real_radio_table,
 )
 from indoorsim.benchmark.realism.report import (
     COMPARED,
     COMPARED_MAGNETIC,
+    COMPARED_RADIO,
     RealismConfig,
     compare,
     markdown,
     real_range,
-    simulate_magnetic,
+    simulate_environment,
     simulate_motion,
     write_report,
 )
@@ -40,9 +44,9 @@ def _real(mode: str, key: str, values: list[float]) -> pd.DataFrame:
 def test_a_real_range_is_the_measured_one_joined_with_the_quoted_one():
     quoted = QUOTED_RANGES[("pocketed", "acc_std")]
     low, high, source = real_range(_real("pocketed", "acc_std", [4.0, 7.5]), "pocketed", "acc_std")
-    assert (low, high) == (quoted[0], 7.5) and source == "2 real walks + quoted"
+    assert (low, high) == (quoted[0], 7.5) and source == "2 real logs + quoted"
     low, high, source = real_range(_real("handheld", "acc_p2p", [6.0, 9.0]), "handheld", "acc_p2p")
-    assert (low, high, source) == (6.0, 9.0, "2 real walks")
+    assert (low, high, source) == (6.0, 9.0, "2 real logs")
     low, _, source = real_range(_real("handheld", "acc_p2p", []), "calling", "acc_p2p")
     assert math.isnan(low) and source == "no real data"
 
@@ -90,27 +94,41 @@ def test_the_committed_real_profiles_are_what_the_real_logs_give():
 
 
 @pytest.mark.skipif(not REALDATA.is_dir(), reason=f"no real data at {REALDATA}")
-def test_the_committed_real_field_table_is_what_the_real_logs_give():
-    fresh, committed = real_magnetic_table(REALDATA), load_real_magnetic()
-    assert list(fresh["walk"]) == list(committed["walk"])
-    for key in MAGNETIC_KEYS:
-        np.testing.assert_allclose(fresh[key], committed[key], rtol=1e-5, err_msg=key)
+@pytest.mark.parametrize(
+    ("fresh", "committed", "keys"),
+    [
+        (real_magnetic_table, load_real_magnetic, MAGNETIC_KEYS),
+        (real_radio_table, load_real_radio, RADIO_KEYS),
+    ],
+    ids=["magnetic", "radio"],
+)
+def test_the_committed_environment_tables_are_what_the_real_logs_give(fresh, committed, keys):
+    measured, stored = fresh(REALDATA), committed()
+    assert list(measured["walk"]) == list(stored["walk"])
+    for key in keys:
+        np.testing.assert_allclose(measured[key], stored[key], rtol=1e-5, err_msg=key)
 
 
-def test_the_field_is_measured_on_each_sites_longest_route_and_reported(tmp_path):
+def test_the_environment_is_measured_on_each_sites_longest_route_and_reported(tmp_path):
     config = RealismConfig(
         bundled=("han2023_corridor",), generated=(), field_generated=(), seeds=(0, 1)
     )
-    field = simulate_magnetic(config)
-    assert list(field["seed"]) == [0, 1] and set(field["route"]) == {"trajectory"}
-    assert field[list(COMPARED_MAGNETIC)].notna().all().all()
+    env = simulate_environment(config)
+    assert list(env["seed"]) == [0, 1] and set(env["route"]) == {"trajectory"}
+    assert env[[*COMPARED_MAGNETIC, *COMPARED_RADIO]].notna().all().all()
     motion = pd.DataFrame({"site": ["s"], "mode": ["handheld"], "seed": [0]})
     motion = motion.assign(**{k: 1.0 for k in MOTION_KEYS})
     tables = write_report(
-        tmp_path, load_real_motion(), motion, real_field=load_real_magnetic(), sim_field=field
+        tmp_path,
+        load_real_motion(),
+        motion,
+        real_field=load_real_magnetic(),
+        real_radio=load_real_radio(),
+        sim_env=env,
     )
-    magnetic = tables[tables["mode"] == "magnetic"]
-    assert list(magnetic["statistic"]) == list(COMPARED_MAGNETIC)
-    assert (magnetic["sites"] == 1).all()
+    for mode, compared in (("magnetic", COMPARED_MAGNETIC), ("wifi", COMPARED_RADIO)):
+        rows = tables[tables["mode"] == mode]
+        assert list(rows["statistic"]) == list(compared) and (rows["sites"] == 1).all()
     text = (tmp_path / "realism.md").read_text()
-    assert "## Magnetic field" in text and "han2023_corridor: trajectory" in text
+    assert "## Magnetic field" in text and "## WiFi" in text
+    assert "han2023_corridor: trajectory" in text
