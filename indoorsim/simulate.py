@@ -241,6 +241,10 @@ def sample_sensors(
     rss_mean = (
         site.rss(imu.position(t_mid)) if len(t_scan) else np.zeros((0, len(site.radio.bssids)))
     )
+    if phone.torso_xy is not None and len(t_scan):
+        # The carrier's trunk shadows the APs behind it (REALISM §4.3).
+        torso = np.column_stack([np.interp(t_mid, phone.t, phone.torso_xy[:, i]) for i in (0, 1)])
+        rss_mean = rss_mean - site.radio.body_shadow_db(imu.position(t_mid), torso)
     wifi = scan_rss(t_scan, rss_mean, site.radio.bssids, device.wifi, rngs["wifi"])
     return PhoneSamples(
         t_accel=t_accel,

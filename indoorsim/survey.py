@@ -10,14 +10,16 @@ errors, and never reads a field model directly.
   magnetometer samples are rotated into the geographic frame with the phone's
   own fused attitude (its rotation vector: magnetic east, magnetic north, up)
   and averaged; the light sensor's events are averaged too; WiFi scans heard
-  during the stay are averaged per AP. The device's turn-on errors are drawn
+  during the stay are averaged per AP, the surveyor's body shadowing the APs
+  behind them. The device's turn-on errors are drawn
   once per survey (one phone) and its noise per sample.
 * **Walk survey** (Chen2022 §3): the surveyor walks the survey's route with
   the phone in hand, tapping a marker at reference points ``reference_spacing``
   apart. The magnetic sequence is labelled with positions interpolated linearly
   in time between marker taps — as a real survey labels it, so speed changes
   between markers become label errors. WiFi fingerprints are taken standing
-  still at each reference point for ``wifi_dwell_s``: the scans heard are averaged.
+  still at each reference point for ``wifi_dwell_s``, facing along the route:
+  the scans heard are averaged.
 
 The result is a :class:`FingerprintDB`: named pandas tables with position
 columns ``x``, ``y`` and feature columns, plus metadata (device, spacing, frame).
@@ -25,6 +27,7 @@ columns ``x``, ``y`` and feature columns, plus metadata (device, spacing, frame)
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -128,7 +131,11 @@ def grid_survey(
     lux_true = site.illuminance(
         np.column_stack([pts, np.full(len(pts), spec.height)]), att.apply([0.0, 0.0, 1.0])
     )
-    rss_true = site.rss(np.column_stack([pts, np.full(len(pts), spec.height)]))
+    where = np.column_stack([pts, np.full(len(pts), spec.height)])
+    facing = np.tile(
+        [math.cos(math.radians(heading_deg)), math.sin(math.radians(heading_deg))], (len(pts), 1)
+    )
+    rss_true = site.rss(where) - site.radio.body_shadow_db(where, _surveyor(pts, facing))
     rows = []
     for k in range(len(pts)):
         t = sample_times(spec.duration_s, spec.rate_hz, profile.timestamp_jitter_frac, noise)
@@ -161,6 +168,15 @@ def grid_survey(
     meta = _meta(site, "grid", profile, seed, spec.model_dump(mode="json"))
     meta["heading_deg"] = heading_deg
     return FingerprintDB(tables={"grid": table}, meta=meta)
+
+
+SURVEY_HOLD_M = 0.3
+"""How far in front of the surveyor's trunk the phone is held for a WiFi stay, m [E]."""
+
+
+def _surveyor(points: NDArray[np.float64], facing: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The surveyor's trunk in plan: :data:`SURVEY_HOLD_M` behind the phone, facing ``facing``."""
+    return points - SURVEY_HOLD_M * facing
 
 
 def _static_wifi(
@@ -296,7 +312,12 @@ def walk_survey(
         )
     # WiFi: standing still at each reference point for the dwell time.
     height = 1.2
-    rss_true = site.rss(np.column_stack([markers, np.full(len(markers), height)]))
+    where = np.column_stack([markers, np.full(len(markers), height)])
+    # The surveyor faces along the route: toward the next reference point.
+    ahead = np.diff(markers, axis=0)
+    ahead = np.vstack([ahead, ahead[-1:]]) if len(ahead) else np.array([[1.0, 0.0]])
+    facing = ahead / np.maximum(np.linalg.norm(ahead, axis=1, keepdims=True), 1e-9)
+    rss_true = site.rss(where) - site.radio.body_shadow_db(where, _surveyor(markers, facing))
     rows = []
     for k, point in enumerate(markers):
         n_scans, rss = _static_wifi(site, rss_true[k], spec.wifi_dwell_s, profile, rngs)

@@ -8,7 +8,7 @@ import pytest
 import indoorsim
 from indoorsim.io.fingerprints import FingerprintDB
 from indoorsim.scenario import GridSurveySpec, WalkSurveySpec
-from indoorsim.survey import grid_points, grid_survey, walk_survey
+from indoorsim.survey import SURVEY_HOLD_M, grid_points, grid_survey, walk_survey
 
 
 @pytest.fixture(scope="module")
@@ -43,7 +43,11 @@ def test_ideal_grid_survey_measures_the_field_in_the_phones_geographic_frame(bas
     np.testing.assert_allclose(grid["mag_z"], field[:, 2], atol=1e-6)
     lux = basement.illuminance(xyz, np.tile([0.0, 0.0, 1.0], (len(xyz), 1)))
     np.testing.assert_allclose(grid["lux"], lux, rtol=0.06)  # the hand tilts ~1°
-    rss = basement.rss(xyz)
+    # The surveyor faces +y (heading 90°), holding the phone SURVEY_HOLD_M in front:
+    # their body shadows the APs behind them.
+    trunk = xyz[:, :2] - [0.0, SURVEY_HOLD_M]
+    rss = basement.rss(xyz) - basement.radio.body_shadow_db(xyz, trunk)
+    assert basement.radio.body_shadow_db(xyz, trunk).max() > 0
     for k, b in enumerate(basement.radio.bssids):
         np.testing.assert_allclose(grid[f"rss_{b}"], rss[:, k], atol=1e-9)
 
@@ -84,6 +88,10 @@ def test_walk_survey_labels_from_markers_and_wifi_at_reference_points(lab):
     assert (mag["b_v"] < 0).all()  # the field dips downward in the northern hemisphere
     assert len(wifi) == len(marks) and (wifi["scans"] > 0).all()
     xyz = np.column_stack([wifi[["x", "y"]].to_numpy(), np.full(len(wifi), 1.2)])
-    rss = lab.rss(xyz)
+    # At each reference point the surveyor faces the next one (the last: as before it).
+    ahead = np.diff(xyz[:, :2], axis=0)
+    ahead = np.vstack([ahead, ahead[-1:]])
+    trunk = xyz[:, :2] - SURVEY_HOLD_M * ahead / np.linalg.norm(ahead, axis=1, keepdims=True)
+    rss = lab.rss(xyz) - lab.radio.body_shadow_db(xyz, trunk)
     for k, b in enumerate(lab.radio.bssids):
         np.testing.assert_allclose(wifi[f"rss_{b}"], rss[:, k], atol=1e-9)

@@ -306,6 +306,18 @@ class RadioSpec(_Spec):
     it; a few dB [E] rather than a concrete wall's 12–26 dB."""
     shadowing_sigma_db: NonNegFloat = 4.0
     shadowing_correlation_m: PositiveFloat = 8.0
+    floors_above: Annotated[int, Field(ge=0, le=3)] = 1
+    floors_below: Annotated[int, Field(ge=0, le=3)] = 1
+    """Storeys above and below whose APs the phone hears through the slabs. Each is
+    laid out like this one — the same AP positions, a storey pitch (the ceiling
+    height) up or down, with BSSIDs of their own — as the floors of an office block
+    or a library repeat one plan [E]."""
+    floor_loss_db: NonNegFloat = 18.3
+    """COST 231 multi-floor loss L_f of one reinforced-concrete slab (REALISM §4.2);
+    through k slabs, L_f·k^((k+2)/(k+1) − b) with b = 0.46."""
+    body_loss_db: NonNegFloat = 6.0
+    """Loss when the carrier's body stands between the phone and an AP: 3–10 dB
+    (REALISM §4.3 [E]); the middle taken."""
 
 
 class RouteSpec(_Spec):

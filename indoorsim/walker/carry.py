@@ -156,6 +156,8 @@ class PhoneTrajectory:
             middle of a transition on).
         light_exposure: (K,) in [0, 1], the fraction of the unobstructed
             illuminance reaching the light sensor.
+        torso_xy: (K, 2) the carrier's trunk axis in plan (the body centre), m: the
+            body that shadows the phone's radio; None for a phone nobody carries.
     """
 
     t: NDArray[np.float64]
@@ -163,6 +165,7 @@ class PhoneTrajectory:
     quat: NDArray[np.float64]
     mode: NDArray[np.str_]
     light_exposure: NDArray[np.float64]
+    torso_xy: NDArray[np.float64] | None = None
 
 
 # ---------------------------------------------------------------------- carry
@@ -257,6 +260,7 @@ def carry(
         quat=_sign_continuous(quat),
         mode=mode,
         light_exposure=np.clip(light, 0.0, 1.0),
+        torso_xy=np.ascontiguousarray(body.pos[:, :2]),
     )
 
 

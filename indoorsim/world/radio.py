@@ -15,6 +15,19 @@ Mean RSS (dBm) of access point k at a receiver p (REALISM §4.1, DESIGN §4 "Rad
   its material's loss at f (``plan.crossing_loss_db``; REALISM §4.2); each
   pillar costs ``radio.pillar_loss_db``, since most power diffracts around a
   column narrower than the first Fresnel zone.
+* APs of the storeys above and below (``radio.floors_above``/``floors_below``)
+  stand where this floor's do, a storey pitch (the ceiling height) up or down,
+  with BSSIDs of their own (:func:`storey_bssid`). Through k slabs they lose
+  the COST 231 multi-floor term L_f·k^((k+2)/(k+1) − b), b = 0.46
+  (``radio.floor_loss_db`` = L_f), and the walls their path crosses in plan
+  view, counted once as if the floors had the same walls. They are what fills
+  a real scan with weak APs: a phone hears its own floor's few loud APs and
+  many through the slabs.
+
+The carrier's body is not part of the building: :meth:`RadioModel.body_shadow_db`
+gives the loss ``radio.body_loss_db`` for the APs behind the trunk as seen from
+the phone (the trunk a vertical cylinder of radius :data:`TORSO_RADIUS_M`), and
+the simulator subtracts it from the mean at each scan.
 * X_k a zero-mean Gaussian shadowing field with standard deviation σ
   (``radio.shadowing_sigma_db``) and exponential spatial correlation
   exp(−Δ/λ) (``radio.shadowing_correlation_m``; REALISM §4.3), fixed per AP
@@ -29,6 +42,7 @@ this module gives the mean.
 from __future__ import annotations
 
 import functools
+import hashlib
 import math
 import zlib
 from dataclasses import dataclass
@@ -44,7 +58,14 @@ if TYPE_CHECKING:
     from indoorsim.scenario.schema import Scenario
     from indoorsim.world.plan import FloorPlan
 
-__all__ = ["RadioModel", "ShadowingField", "free_space_loss_1m_db", "shadowing_rng"]
+__all__ = [
+    "RadioModel",
+    "ShadowingField",
+    "floor_loss_db",
+    "free_space_loss_1m_db",
+    "shadowing_rng",
+    "storey_bssid",
+]
 
 SPEED_OF_LIGHT_M_S = 299_792_458.0
 REFERENCE_DISTANCE_M = 1.0
@@ -65,6 +86,39 @@ def free_space_loss_1m_db(frequency_ghz: float | NDArray[np.float64]) -> NDArray
     """Free-space path loss at 1 m, 20·log10(4π·f·d0/c), dB."""
     f_hz = np.asarray(frequency_ghz, dtype=float) * 1e9
     return 20 * np.log10(4 * np.pi * f_hz * REFERENCE_DISTANCE_M / SPEED_OF_LIGHT_M_S)
+
+
+TORSO_RADIUS_M = 0.16
+"""The trunk as a cylinder: the area of an adult's chest section (breadth ≈ 0.33 m,
+depth ≈ 0.23 m, anthropometric means [E]) as a disc."""
+FRESNEL_WIDTH_M = 0.2
+"""Width over which the body's shadow sets in: the first Fresnel zone's radius
+√(λ·d) at 2.4 GHz, d ≈ 0.3 m from the phone to the trunk."""
+
+COST231_FLOOR_B = 0.46
+"""The b of the COST 231 multi-floor term: each further slab costs less than the first."""
+
+
+def floor_loss_db(slabs: int, per_floor_db: float) -> float:
+    """COST 231 loss through ``slabs`` floors: L_f·k^((k+2)/(k+1) − b); 0 for k = 0."""
+    if slabs < 0:
+        raise ValueError(f"slabs must be >= 0, got {slabs}")
+    if slabs == 0:
+        return 0.0
+    return per_floor_db * slabs ** ((slabs + 2) / (slabs + 1) - COST231_FLOOR_B)
+
+
+def storey_bssid(bssid: str, storey: int) -> str:
+    """The BSSID of the AP standing where ``bssid`` does, ``storey`` floors up (or down).
+
+    A locally administered unicast MAC hashed from the pair, so the same site always
+    has the same neighbours and a storey's BSSIDs do not depend on the other APs.
+    """
+    octets = bytearray(
+        hashlib.blake2b(f"{bssid.lower()}@{storey}".encode(), digest_size=6).digest()
+    )
+    octets[0] = (octets[0] | 0x02) & 0xFE
+    return ":".join(f"{o:02x}" for o in octets)
 
 
 def shadowing_rng(seed: int, bssid: str) -> np.random.Generator:
@@ -199,25 +253,44 @@ class RadioModel:
     """Mean WiFi RSS of every access point of a scenario (see the module docstring).
 
     Attributes:
-        bssids: the APs' BSSIDs, in scenario order (the columns of :meth:`rss`).
+        bssids: the APs' BSSIDs (the columns of :meth:`rss`): the scenario's in its
+            order, then each neighbouring storey's in the same order (above, then below).
+        storey: (n_ap,) the storey of each AP relative to this one (0 for the scenario's).
         positions: (n_ap, 3) AP positions, m.
         tx_power_dbm: (n_ap,) transmit powers (EIRP), dBm.
         frequency_ghz: (n_ap,) carrier frequencies, GHz.
         path_loss_exponent: n of the log-distance law.
         system_loss_db: losses between EIRP and the phone's report, dB.
         shadowing: one field per AP, or ``None`` when σ = 0.
+        slab_loss_db: (n_ap,) the COST 231 multi-floor loss of each AP, dB.
+        body_loss_db: loss behind the carrier's body, dB (:meth:`body_shadow_db`).
         plan: the walls and pillars that attenuate.
     """
 
     def __init__(self, scenario: Scenario, plan: FloorPlan):
         radio = scenario.radio
         self.plan = plan
-        self.bssids: list[str] = [ap.bssid for ap in scenario.wifi]
-        self.positions = np.array([ap.position for ap in scenario.wifi], dtype=float).reshape(-1, 3)
-        self.tx_power_dbm = np.array([ap.tx_power_dbm for ap in scenario.wifi], dtype=float)
-        self.frequency_ghz = np.array([ap.frequency_ghz for ap in scenario.wifi], dtype=float)
+        own = [ap.bssid for ap in scenario.wifi]
+        position = np.array([ap.position for ap in scenario.wifi], dtype=float).reshape(-1, 3)
+        power = np.array([ap.tx_power_dbm for ap in scenario.wifi], dtype=float)
+        frequency = np.array([ap.frequency_ghz for ap in scenario.wifi], dtype=float)
+        storeys = [0, *range(1, radio.floors_above + 1), *range(-1, -radio.floors_below - 1, -1)]
+        pitch = scenario.site.ceiling_height
+        self.bssids: list[str] = [b if k == 0 else storey_bssid(b, k) for k in storeys for b in own]
+        if len(set(map(str.lower, self.bssids))) != len(self.bssids):
+            raise ValueError("a neighbouring storey's BSSID repeats one of the site's")
+        self.storey = np.repeat(storeys, len(own)).astype(int)
+        self.positions = np.concatenate(
+            [position + np.array([0.0, 0.0, k * pitch]) for k in storeys]
+        ).reshape(-1, 3)
+        self.tx_power_dbm = np.tile(power, len(storeys))
+        self.frequency_ghz = np.tile(frequency, len(storeys))
+        self.slab_loss_db = np.array(
+            [floor_loss_db(abs(int(k)), radio.floor_loss_db) for k in self.storey]
+        )
         self.path_loss_exponent = radio.path_loss_exponent
         self.system_loss_db = radio.system_loss_db
+        self.body_loss_db = radio.body_loss_db
         self.pillar_loss_db = radio.pillar_loss_db
         self.shadowing: list[ShadowingField] | None = None
         if radio.shadowing_sigma_db > 0:
@@ -234,7 +307,12 @@ class RadioModel:
     def rss(self, points: ArrayLike) -> NDArray[np.float64]:
         """(N, n_ap) mean received power in dBm at (N, 3) points (no per-scan fading)."""
         p = _as_points3(points)
-        ref_db = self.tx_power_dbm - self.system_loss_db - free_space_loss_1m_db(self.frequency_ghz)
+        ref_db = (
+            self.tx_power_dbm
+            - self.system_loss_db
+            - free_space_loss_1m_db(self.frequency_ghz)
+            - self.slab_loss_db
+        )
         out = np.empty((len(p), len(self.bssids)))
         for k, (ap, f_ghz) in enumerate(zip(self.positions, self.frequency_ghz, strict=True)):
             d = np.maximum(np.linalg.norm(p - ap, axis=1), REFERENCE_DISTANCE_M)
@@ -249,6 +327,30 @@ class RadioModel:
             out += self.shadowing_db(p)
         return out
 
+    def body_shadow_db(self, points: ArrayLike, torso_xy: ArrayLike) -> NDArray[np.float64]:
+        """(N, n_ap) loss (dB, ≥ 0) from the carrier's trunk at ``torso_xy`` (N, 2) on the
+        way from each AP to the phone at ``points`` (N, 3).
+
+        In plan view, the ray from the phone toward an AP is shadowed when it passes
+        the trunk's axis closer than :data:`TORSO_RADIUS_M` on the trunk's side of
+        the phone. The shadow sets in smoothly over :data:`FRESNEL_WIDTH_M`, across
+        the ray and along it, so a phone against the body (a pocket) loses the APs
+        on the body's side, a held phone those behind its carrier, and the loss is
+        continuous as the walker turns.
+        """
+        p = _as_points3(points)
+        torso = np.asarray(torso_xy, dtype=float)
+        if torso.shape != (len(p), 2):
+            raise ValueError(f"torso_xy: expected shape ({len(p)}, 2), got {torso.shape}")
+        to_torso = torso - p[:, :2]  # (N, 2)
+        to_ap = self.positions[None, :, :2] - p[:, None, :2]  # (N, n_ap, 2)
+        unit = to_ap / np.maximum(np.linalg.norm(to_ap, axis=2, keepdims=True), 1e-9)
+        along = np.einsum("nak,nk->na", unit, to_torso)
+        miss = np.abs(unit[..., 0] * to_torso[:, None, 1] - unit[..., 1] * to_torso[:, None, 0])
+        across = _smoothstep((TORSO_RADIUS_M - miss) / FRESNEL_WIDTH_M + 0.5)
+        ahead = _smoothstep(along / FRESNEL_WIDTH_M + 0.5)
+        return self.body_loss_db * across * ahead
+
     def shadowing_db(self, points: ArrayLike) -> NDArray[np.float64]:
         """(N, n_ap) shadowing term X_k at (N, 2) or (N, 3) points, dB (zeros when σ = 0)."""
         p = np.asarray(points, dtype=float)
@@ -260,6 +362,11 @@ class RadioModel:
             for k, field in enumerate(self.shadowing):
                 out[:, k] = field(xy)
         return out
+
+
+def _smoothstep(x: NDArray[np.float64]) -> NDArray[np.float64]:
+    x = np.clip(x, 0.0, 1.0)
+    return x * x * (3.0 - 2.0 * x)
 
 
 def _as_points3(points: ArrayLike) -> NDArray[np.float64]:

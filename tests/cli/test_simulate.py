@@ -139,7 +139,7 @@ def test_grid_survey_writes_the_scenarios_plan_as_a_database(tmp_path, capsys):
     np.testing.assert_allclose(db["grid"][["x", "y"]].to_numpy(), points)
     summary = " ".join(capsys.readouterr().out.split())
     assert f"{len(points)} points 1.2 m apart" in summary
-    assert f"rss_<bssid> × {len(site.scenario.wifi)}" in summary
+    assert f"rss_<bssid> × {len(site.radio.bssids)}" in summary  # the storeys around included
 
 
 def test_walk_survey_writes_reference_points_and_sequences(tmp_path, capsys):

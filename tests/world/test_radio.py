@@ -10,11 +10,20 @@ import pytest
 from indoorsim.scenario import parse_scenario
 from indoorsim.world.materials import MATERIALS
 from indoorsim.world.plan import FloorPlan
-from indoorsim.world.radio import RadioModel, free_space_loss_1m_db
+from indoorsim.world.radio import (
+    RadioModel,
+    floor_loss_db,
+    free_space_loss_1m_db,
+    storey_bssid,
+)
+
+ONE_STOREY = {"floors_above": 0, "floors_below": 0}
 
 
 def _hall(width: float, depth: float, walls: list[dict] | None = None, **keys: object) -> dict:
-    """A closed concrete hall [0, width] × [0, depth] with a fixed outline, plus ``walls``."""
+    """A closed concrete hall [0, width] × [0, depth] with a fixed outline, plus ``walls``;
+    a single storey unless ``radio`` says otherwise."""
+    keys["radio"] = {**ONE_STOREY, **keys.get("radio", {})}
     corners = [(0, 0), (width, 0), (width, depth), (0, depth)]
     outer = [
         {"from": list(a), "to": list(b), "thickness": 0.2}
@@ -171,3 +180,80 @@ def test_no_access_points_gives_an_empty_column_set():
     model = _model(_hall(10, 10))
     assert model.rss(POINTS).shape == (len(POINTS), 0)
     assert model.bssids == []
+
+
+def test_cost231_floor_loss_in_closed_form():
+    # L_f·k^((k+2)/(k+1) − 0.46): 18.3 dB through one slab, 18.3·2^(4/3 − 0.46) through two.
+    assert floor_loss_db(0, 18.3) == 0.0
+    assert floor_loss_db(1, 18.3) == pytest.approx(18.3)
+    assert floor_loss_db(2, 18.3) == pytest.approx(18.3 * 2 ** (4 / 3 - 0.46))
+    with pytest.raises(ValueError, match="slabs"):
+        floor_loss_db(-1, 18.3)
+
+
+def test_the_storeys_above_and_below_repeat_the_floors_aps_through_the_slab():
+    radio = {**NO_SHADOWING, "floors_above": 1, "floors_below": 2, "floor_loss_db": 15.0}
+    ap = _ap(10, 5, 2.5, tx_power_dbm=20.0, frequency_ghz=2.437)
+    model = _model(_hall(30, 10, wifi=[ap], radio=radio))
+    own = ap["bssid"]
+    assert model.bssids == [own, *(storey_bssid(own, k) for k in (1, -1, -2))]
+    assert list(model.storey) == [0, 1, -1, -2]
+    np.testing.assert_allclose(model.positions[:, 2], [2.5, 5.5, -0.5, -3.5])
+    # Straight below the AP of the storey above: 3 m farther, one slab between.
+    p = np.array([[10.0, 5.0, 2.5]])
+    rss = model.rss(p)[0]
+    d = np.array([1.0, 3.0, 3.0, 6.0])
+    slabs = np.array([0.0, 15.0, 15.0, floor_loss_db(2, 15.0)])
+    expected = 20.0 - 10.0 - free_space_loss_1m_db(2.437) - 20 * np.log10(d) - slabs
+    np.testing.assert_allclose(rss, expected, atol=1e-9)
+
+
+def test_storey_bssids_are_fixed_locally_administered_and_distinct():
+    b = storey_bssid("02:93:0C:5E:52:10", 1)
+    assert b == storey_bssid("02:93:0c:5e:52:10", 1) != storey_bssid("02:93:0c:5e:52:10", -1)
+    first = int(b.split(":")[0], 16)
+    assert first & 0x02 and not first & 0x01  # locally administered, unicast
+    assert len(b) == 17 and b == b.lower()
+
+
+def _behind_model(body_loss_db: float = 6.0) -> RadioModel:
+    # Three APs at 1.2 m: ahead of (+x), behind (−x) and beside (+y) a phone at (10, 10).
+    aps = [
+        _ap(20, 10, 1.2, bssid="02:00:00:00:00:01"),
+        _ap(0.5, 10, 1.2, bssid="02:00:00:00:00:02"),
+        _ap(10, 19.5, 1.2, bssid="02:00:00:00:00:03"),
+    ]
+    radio = {**NO_SHADOWING, "body_loss_db": body_loss_db}
+    return _model(_hall(20.5, 20, wifi=aps, radio=radio))
+
+
+def test_the_body_shadows_the_aps_behind_a_held_phone_only():
+    model = _behind_model(6.0)
+    phone = np.array([[10.0, 10.0, 1.2]])
+    torso = np.array([[9.7, 10.0]])  # the carrier 0.3 m behind, facing +x
+    np.testing.assert_allclose(model.body_shadow_db(phone, torso)[0], [0.0, 6.0, 0.0], atol=1e-12)
+    # Turned round, the carrier shadows the AP that was ahead.
+    turned = model.body_shadow_db(phone, np.array([[10.3, 10.0]]))[0]
+    np.testing.assert_allclose(turned, [6.0, 0.0, 0.0], atol=1e-12)
+    assert not _behind_model(0.0).body_shadow_db(phone, torso).any()
+
+
+def test_the_body_shadow_sets_in_continuously_as_the_carrier_turns():
+    model = _behind_model(6.0)
+    phone = np.tile([10.0, 10.0, 1.2], (721, 1))
+    angle = np.radians(np.linspace(0.0, 360.0, 721))
+    torso = phone[:, :2] - 0.3 * np.column_stack([np.cos(angle), np.sin(angle)])
+    loss = model.body_shadow_db(phone, torso)[:, 1]  # the AP at −x
+    assert loss.min() == 0.0 and loss.max() == pytest.approx(6.0)
+    assert np.abs(np.diff(loss)).max() < 0.3  # 0.5° steps: no jump
+
+
+def test_a_phone_against_the_body_loses_the_aps_on_the_bodys_side():
+    model = _behind_model(8.0)
+    phone = np.array([[10.0, 10.0, 0.8]])
+    torso = np.array([[10.0, 10.1]])  # a front pocket, the pelvis centre 0.1 m toward +y
+    loss = model.body_shadow_db(phone, torso)[0]
+    np.testing.assert_allclose(loss[2], 8.0)  # the AP beyond the body, at +y
+    assert loss[0] < 8.0 and loss[1] < 8.0  # those to the sides lose less (half-shadowed)
+    with pytest.raises(ValueError, match="torso_xy"):
+        model.body_shadow_db(phone, np.zeros((2, 2)))
