@@ -11,7 +11,7 @@ import os
 import subprocess
 from pathlib import Path
 
-__all__ = ["REALDATA_ENV", "REPO", "git_revision", "realdata_dir"]
+__all__ = ["OUTPUTS", "REALDATA_ENV", "REPO", "git_revision", "realdata_dir"]
 
 REPO = Path(__file__).resolve().parents[2]
 """The source tree this package runs from (for an installed wheel: site-packages)."""
@@ -34,16 +34,28 @@ def realdata_dir(path: str | os.PathLike[str] | None = None) -> Path:
     return REPO.parent / "shared" / "realdata"
 
 
+OUTPUTS = ("leaderboards",)
+"""Folders of generated results: a run that rewrites them is not made "dirty" by it."""
+
+
 def git_revision() -> str:
-    """The repository's commit (with ``-dirty`` for local changes), or ``unknown``."""
-    try:
-        rev = subprocess.run(
-            ["git", "-C", str(REPO), "describe", "--always", "--dirty", "--abbrev=12"],
-            capture_output=True,
-            text=True,
-            check=True,
-            timeout=10,
+    """The repository's commit, with ``-dirty`` for local changes to its code, or ``unknown``.
+
+    Changes under :data:`OUTPUTS` do not count: the leaderboard command rewrites
+    ``leaderboards/`` while it runs, and asks for the revision after it began.
+    """
+
+    def git(*args: str) -> str:
+        return subprocess.run(
+            ["git", "-C", str(REPO), *args], capture_output=True, text=True, check=True, timeout=10
         ).stdout.strip()
+
+    try:
+        rev = git("rev-parse", "--short=12", "HEAD")
+        excluded = [f":(exclude){folder}" for folder in OUTPUTS]
+        changed = git("status", "--porcelain", "--untracked-files=no", "--", ".", *excluded)
     except (OSError, subprocess.SubprocessError):
         return "unknown"
-    return rev or "unknown"
+    if not rev:
+        return "unknown"
+    return f"{rev}-dirty" if changed else rev
