@@ -250,27 +250,53 @@ class DipoleSpec(_Spec):
 
 
 class RebarSpec(_Spec):
-    """A reinforcing-steel mesh in a floor or ceiling slab, as a grid of dipoles."""
+    """Reinforcing steel in a slab or a beam, as a grid of dipoles.
+
+    ``bars`` says which way the bars run: ``mesh`` (a slab: two layers, along x
+    and along y, half the steel each) or ``x`` / ``y`` (a beam: its longitudinal
+    bars that way, ``MagneticSpec.tie_share`` of the steel in stirrups across
+    it). Bars are long, so the Earth's field magnetises them along their axes
+    (``MagneticSpec.susceptibility``) far more than across
+    (``transverse_susceptibility``), and their remanence lies along them.
+    """
 
     z: FiniteFloat
     spacing: PositiveFloat = 1.0
     steel_volume_m3_per_m2: NonNegFloat = 0.002
     region: Annotated[list[Vec2], Field(min_length=3)] | None = None
-    """Polygon covered by the mesh; the building outline when omitted."""
+    """Polygon covered by the steel; the building outline when omitted."""
+    bars: Literal["mesh", "x", "y"] = "mesh"
+    element_m: PositiveFloat | None = None
+    """Side of the square patches (a mesh) or length of the segments (a beam) over
+    which one set of bars runs, magnetised as one: a structural bay, the length a
+    bar spans between laps [E]. Patches start at the region's lower-left corner.
+    None: every dipole is its own element."""
 
 
 class MagneticSpec(_Spec):
-    """Magnetic sources: explicit dipoles, plus the steel of pillars and slabs.
+    """Magnetic sources: explicit dipoles, plus the steel of pillars, slabs and beams.
 
-    Steel elements get an induced moment m = χ·V·B_earth/μ0 along the Earth's
-    field plus a remanent moment in a random (seeded) direction whose RMS size
-    is ``remanent_ratio`` times the induced one.
+    Reinforcing steel is bars. A bar of volume V along u in the Earth's field
+    H = B_earth/μ0 takes the induced moment V·[χ·(H·u)u + χ_t·(H − (H·u)u)] —
+    χ = ``susceptibility`` along it, χ_t = ``transverse_susceptibility`` across —
+    and a remanent moment along u. An element (a column's storey, a slab's
+    patch, a beam's bay: see :class:`RebarSpec`) is magnetised as one: each of
+    its bar directions f, holding the share w_f of its steel, carries g_f·c_f·u_f
+    with g_f a standard normal (seeded) and c_f = ``remanent_ratio``·χ·V·|H|·
+    w_f/√(Σ w_f²), so the element's RMS remanent moment is ``remanent_ratio``
+    times the moment the field would induce along its bars. Steel furniture is
+    sheet steel: isotropic χ, a remanent moment in a random direction.
     """
 
     dipoles: list[DipoleSpec] = []
     rebar: list[RebarSpec] = []
     susceptibility: NonNegFloat = 30.0
-    """Effective (shape-limited) volume susceptibility of rebar steel."""
+    """Effective volume susceptibility of steel along a bar (or of sheet steel)."""
+    transverse_susceptibility: NonNegFloat = 2.0
+    """Across a long bar: its demagnetising factor ½ caps it near 2 [D: χ/(1 + χ/2)]."""
+    tie_share: Annotated[float, Field(ge=0, le=1)] = 0.25
+    """Share of a column's or beam's steel in the ties and stirrups that run across
+    it (half each way) [E]."""
     remanent_ratio: NonNegFloat = 0.5
     pillar_dipole_spacing: PositiveFloat = 0.5
     min_distance: PositiveFloat = 0.05

@@ -5,17 +5,25 @@ B(p) = B_earth + Σ_j μ0/4π · [3(m_j·r̂)r̂ − m_j]/r³,   r = p − q_j.
 * **Earth field** from IGRF (``ppigrf``) for the site's latitude, longitude,
   altitude and date, rotated into the building frame by ``site.north_deg`` — or
   the scenario's explicit ``earth_field_uT``.
-* **Steel** becomes point dipoles. Each steel element of volume V carries an
-  induced moment along the Earth's field, m = χ·V·B_earth/μ0 (χ an effective,
-  shape-limited susceptibility), plus a remanent moment in a random direction
-  whose RMS size is ``remanent_ratio`` times the induced one (seeded from the
-  scenario's ``seed``, so the building is the same every time it is loaded):
+* **Steel** becomes point dipoles (seeded from the scenario's ``seed``, so the
+  building is the same every time it is loaded). Reinforcing steel is bars,
+  magnetised along their axes: a bar of volume V along u takes the induced
+  moment V·[χ·(H·u)u + χ_t·(H − (H·u)u)] (H = B_earth/μ0; χ along a long bar,
+  whose demagnetising factor is near zero, χ_t ≈ 2 across it) and a remanent
+  moment along u (:func:`bar_moments`). A structural element — a column's
+  storey, a slab's patch, a beam's bay — is magnetised as one, because its bars
+  run through it: a uniformly magnetised patch has no field of its own away
+  from its edges, so the field comes from where the magnetisation changes, at
+  the patches' edges and the laps, and reaches as far as a line of poles does.
+  Independent remanence dipole by dipole would instead make every dipole a
+  source, a field as rough as the grid. Per source:
 
   - pillars: a vertical chain of dipoles through the storey below, this one and
-    the one above (columns run through the slabs, which makes them line-like
-    sources decaying as ~1/r² at walking height);
-  - slab rebar: a grid of dipoles at the slab's height;
-  - steel furniture: one dipole at half its height;
+    the one above (columns run through the slabs), vertical bars and ties;
+  - slab and beam rebar: a grid of dipoles at the slab's or beam's height, its
+    bars a two-way mesh or a beam's longitudinal bars and stirrups;
+  - steel furniture (sheet steel): one dipole at half its height, isotropic,
+    with a remanent moment in a random direction;
   - explicit dipoles (elevators, machinery) as given.
 
 Evaluation is vectorised over points and dipoles and chunked to bound memory.
@@ -506,15 +514,33 @@ class MagneticModel:
         def rng(stream: int) -> np.random.Generator:
             return generator(scenario.seed, (stream,))
 
-        def steel(
+        def sheet_steel(
             pos: NDArray[np.float64], vol: NDArray[np.float64], stream: int
         ) -> NDArray[np.float64]:
+            # Sheet-steel furniture: isotropic, remanence in a random direction.
             ind = induced_moment(vol, mag.susceptibility, b_earth)
             size = np.linalg.norm(ind, axis=1, keepdims=True)
             rem = (
                 rng(stream).standard_normal(pos.shape) * size * (mag.remanent_ratio / math.sqrt(3))
             )
             return ind + rem
+
+        def bars(
+            vol: NDArray[np.float64],
+            element: NDArray[np.intp],
+            families: list[tuple[NDArray[np.float64], float]],
+            stream: int,
+        ) -> NDArray[np.float64]:
+            return bar_moments(
+                vol,
+                element,
+                families,
+                b_earth,
+                mag.susceptibility,
+                mag.transverse_susceptibility,
+                mag.remanent_ratio,
+                rng(stream),
+            )
 
         groups: list[tuple[NDArray[np.float64], NDArray[np.float64], str]] = []
         if mag.dipoles:
@@ -526,23 +552,30 @@ class MagneticModel:
                 )
             )
         h = site.ceiling_height
+        ties = mag.tie_share
         if scenario.pillars:
             n = max(1, round(h / mag.pillar_dipole_spacing))
             z = (np.arange(3 * n) + 0.5) * (h / n) - h  # storey below, this, above
             pos = np.array([(*p.center, zz) for p in scenario.pillars for zz in z])
             vol = np.repeat([p.steel_volume_m3 / n for p in scenario.pillars], len(z))
-            groups.append((pos, steel(pos, vol, _STREAM_PILLARS), "pillar"))
+            # One element per pillar and storey: the bars are lapped at each slab.
+            element = np.arange(len(pos)) // n
+            column = [(_Z, 1.0 - ties), (_X, ties / 2), (_Y, ties / 2)]
+            groups.append((pos, bars(vol, element, column, _STREAM_PILLARS), "pillar"))
         steel_obst = [o for o in scenario.obstacles if o.steel_volume_m3 > 0]
         if steel_obst:
             pos = np.array([(*o.center, o.height / 2) for o in steel_obst])
             vol = np.array([o.steel_volume_m3 for o in steel_obst])
-            groups.append((pos, steel(pos, vol, _STREAM_OBSTACLES), "obstacle"))
+            groups.append((pos, sheet_steel(pos, vol, _STREAM_OBSTACLES), "obstacle"))
         for k, rebar in enumerate(scenario.magnetic.rebar):
             region = Polygon(rebar.region) if rebar.region is not None else plan.outline
             pos = _grid_in(region, rebar.spacing, rebar.z)
             if len(pos):
                 vol = np.full(len(pos), rebar.steel_volume_m3_per_m2 * rebar.spacing**2)
-                groups.append((pos, steel(pos, vol, _STREAM_REBAR * 1000 + k), "rebar"))
+                element = _elements(pos, region.bounds, rebar.bars, rebar.element_m)
+                families = _BAR_FAMILIES[rebar.bars](ties)
+                moments = bars(vol, element, families, _STREAM_REBAR * 1000 + k)
+                groups.append((pos, moments, "rebar"))
 
         if groups:
             positions = np.concatenate([g[0] for g in groups])
@@ -682,6 +715,76 @@ class MagneticModel:
         return _DipoleIndex.build(
             np.ascontiguousarray(self.positions, dtype=float), _CELL_FRACTION * PATH_BANDS[0][1]
         )
+
+
+_X, _Y, _Z = np.eye(3)
+
+_BAR_FAMILIES: dict[str, Callable[[float], list[tuple[NDArray[np.float64], float]]]] = {
+    # (bar direction, share of the steel), given the share in ties and stirrups.
+    "mesh": lambda ties: [(_X, 0.5), (_Y, 0.5)],
+    "x": lambda ties: [(_X, 1.0 - ties), (_Y, ties / 2), (_Z, ties / 2)],
+    "y": lambda ties: [(_Y, 1.0 - ties), (_X, ties / 2), (_Z, ties / 2)],
+}
+
+
+def bar_moments(
+    volume: NDArray[np.float64],
+    element: NDArray[np.intp],
+    families: list[tuple[NDArray[np.float64], float]],
+    b_earth_uT: NDArray[np.float64],
+    susceptibility: float,
+    transverse_susceptibility: float,
+    remanent_ratio: float,
+    rng: np.random.Generator,
+) -> NDArray[np.float64]:
+    """(M, 3) moments (A·m²) of dipoles standing for bars (see :class:`MagneticSpec`).
+
+    Args:
+        volume: (M,) steel each dipole stands for, m³.
+        element: (M,) which element each dipole belongs to; an element's dipoles
+            share its remanent magnetisation (one draw per element and bar direction,
+            in order of first appearance).
+        families: (unit direction, share of the steel) of each bar direction.
+        b_earth_uT: the Earth's field.
+        susceptibility: χ along a bar.
+        transverse_susceptibility: χ_t across it.
+        remanent_ratio: the elements' RMS remanent moment over χ·V·|H|.
+        rng: the remanence's random source.
+    """
+    h = np.asarray(b_earth_uT, dtype=float) / _T_TO_UT / (4 * math.pi * MU0_OVER_4PI)  # A/m
+    per_unit = np.zeros(3)  # induced moment per m³ of steel
+    for u, share in families:
+        along = float(h @ u) * u
+        per_unit += share * (susceptibility * along + transverse_susceptibility * (h - along))
+    _, first, which = np.unique(element, return_index=True, return_inverse=True)
+    order = np.argsort(first)  # elements in order of first appearance: stable draws
+    draws = np.empty((len(first), len(families)))
+    draws[order] = rng.standard_normal((len(first), len(families)))
+    norm = math.sqrt(sum(share**2 for _, share in families)) or 1.0
+    scale = remanent_ratio * susceptibility * float(np.linalg.norm(h)) / norm
+    directions = np.array([share * u for u, share in families])  # (F, 3)
+    remanent_per_unit = scale * draws @ directions  # (E, 3) per m³ of the element's steel
+    vol = np.asarray(volume, dtype=float)[:, None]
+    return vol * (per_unit + remanent_per_unit[which])
+
+
+def _elements(
+    pos: NDArray[np.float64],
+    bounds: tuple[float, float, float, float],
+    bars: str,
+    element_m: float | None,
+) -> NDArray[np.intp]:
+    """Element of each grid point: square patches (a mesh) or segments along a beam's
+    bars, ``element_m`` long from the region's lower-left corner; one per point if None."""
+    if element_m is None:
+        return np.arange(len(pos))
+    ix = np.floor((pos[:, 0] - bounds[0]) / element_m).astype(np.intp)
+    iy = np.floor((pos[:, 1] - bounds[1]) / element_m).astype(np.intp)
+    if bars == "x":
+        return ix
+    if bars == "y":
+        return iy
+    return ix * (iy.max() + 1) + iy
 
 
 def _grid_in(region: Polygon, spacing: float, z: float) -> NDArray[np.float64]:

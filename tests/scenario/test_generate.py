@@ -186,18 +186,18 @@ def _corridor_profile(seed: int) -> tuple[np.ndarray, np.ndarray, float]:
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_office_corridor_magnetic_anomalies_look_indoor(seed: int) -> None:
     """REALISM §2.2: along a walked path |B| scatters by a few µT around the Earth
-    value, with extremes of ~10–25 µT. The 1/e correlation length is shorter than
-    the open-area walks there (1.8–4.7 m): the corridor's columns and the slab
-    steel sit only 1.2–1.5 m from the walking line, and a source's feature is
-    about as wide as its distance. Measured here: ~1.0–1.6 m."""
+    value, its extremes a few σ out, and its 1/e correlation length is 1.8–4.7 m
+    over walks of 46–346 m. A generated corridor is 25–60 m long, so its estimate
+    scatters more: measured here 1.6–5.3 m (seeds 0–5; 0.9–1.6 m before the
+    bars were magnetised element by element)."""
     b, _, earth = _corridor_profile(seed)
-    dev = b - earth
     assert 1.5 <= b.std() <= 12.0
-    assert 5.0 <= np.abs(dev).max() <= 30.0
+    assert np.abs(b - earth).max() <= 30.0
     centred = b - b.mean()
+    assert 2.0 <= np.abs(centred).max() / b.std() <= 6.0
     ac = np.correlate(centred, centred, "full")[len(b) - 1 :]
     corr_length = np.argmax(ac / ac[0] < 1 / math.e) * 0.1
-    assert 0.8 <= corr_length <= 5.0
+    assert 1.0 <= corr_length <= 6.0
 
 
 def test_office_corridor_is_lit_like_a_corridor() -> None:

@@ -44,12 +44,16 @@ furniture 1.5–12 dm³ per piece, and the strong sources are explicit dipoles o
 up to 100 A·m² (REALISM §2.3): lift cars and counterweights, fire doors, steel
 door frames, radiators, electrical cabinets, pumps, escalator trusses. Their
 moments point mostly along the Earth's field (induced) with a random remanent
-part. Calibrated against REALISM §2.2 (real indoor walks: σ(|B|) 2–9 µT,
-extremes up to ±25 µT): along the corridor of generated offices (seeds 0–19,
-phone at 1.2 m) σ is 2.2–5 µT, the extremes −10 to +20 µT. The along-path
-correlation length, 0.9–1.6 m, is shorter than in §2.2's open-area walks
-(1.8–4.7 m): columns and slabs stand 1.2–1.5 m from a corridor's walking line,
-and a source's feature is about as wide as its distance.
+part. Reinforcement is bars magnetised along their axes, one element (a
+column's storey, a slab's bay, a beam's bay) at a time
+(:class:`~indoorsim.scenario.schema.MagneticSpec`). The remanent ratio, 2, is
+the one amplitude calibrated against REALISM §2.2 (real indoor walks: σ(|B|)
+2–9 µT, extremes up to ±25 µT): along the round trip of generated offices
+(seeds 0–19, phone at 1.2 m) σ is 2.2–6.7 µT and the extremes −22 to +23 µT.
+The spectrum is not calibrated but follows from the elements: the 1/e
+correlation length is 1.3–5.5 m (median 2.1; real walks 1.8–4.7) and 0.66 of
+the variance (median) lies above 10 m (real 0.64–0.83). With remanence drawn
+dipole by dipole and isotropic steel, as before, it was 0.8–1.2 m and 0.25.
 
 Light: luminaires of one type per area, identical within it (REALISM §3.2):
 LED tubes (≈ 500–600 cd, exponent ≈ 1), LED panels (1500–1800 cd, exponent

@@ -226,7 +226,7 @@ def build_basement(size: Size | None, seed: int) -> Scenario:
             f"{n_modules} driving aisle(s) with stall rows, a {bay:.2f} m column grid, "
             f"stair and lift core, plant room, ramp; dim tube lighting over the aisles."
         ),
-        magnetic=d.magnetic(beam_m3_per_m=0.008),
+        magnetic=d.magnetic(beam_m3_per_m=0.008, bay_m=bay),
         # Underground: the ground floor above it, no storey below.
         radio={"path_loss_exponent": 2.2, "shadowing_sigma_db": 5.0, "floors_below": 0},
         light={"reflectance": {"ceiling": 0.5, "walls": 0.4, "floor": 0.2}},

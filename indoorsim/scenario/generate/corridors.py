@@ -240,7 +240,7 @@ def _courtyard(kind: str, size: Size | None, seed: int, arms: int) -> Scenario:
             f"in {d.city}: a {clear} m single-loaded corridor on the outer side, rooms "
             f"{depth:.1f} m deep on the courtyard side, stairs at the arm ends."
         ),
-        magnetic=d.magnetic(beam_m3_per_m=0.005),
+        magnetic=d.magnetic(beam_m3_per_m=0.005, bay_m=length / nx),
         radio={"path_loss_exponent": 2.0, "shadowing_sigma_db": 4.0},
     )
 

@@ -213,6 +213,6 @@ def build_office(size: Size | None, seed: int) -> Scenario:
             f"a {corridor_clear} m corridor with {layout}, {n_bays} structural bays "
             f"of {length / n_bays:.2f} m, a stair and lift core."
         ),
-        magnetic=d.magnetic(beam_m3_per_m=0.005),
+        magnetic=d.magnetic(beam_m3_per_m=0.005, bay_m=bay),
         radio={"path_loss_exponent": 2.0, "shadowing_sigma_db": 4.0},
     )

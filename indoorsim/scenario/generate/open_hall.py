@@ -270,6 +270,6 @@ def build_open_hall(size: Size | None, seed: int) -> Scenario:
             f"{shop_depth:.1f} m deep on {sides} sides of a {h:.1f} m high hall with "
             f"free-standing columns, kiosks and an escalator."
         ),
-        magnetic=d.magnetic(beam_m3_per_m=0.006),
+        magnetic=d.magnetic(beam_m3_per_m=0.006, bay_m=hall.width / nx),
         radio={"path_loss_exponent": 2.2, "shadowing_sigma_db": 5.0},
     )

@@ -76,10 +76,14 @@ INSIDE = {
 }
 """(mode, statistic) inside the real range on every site, per mode."""
 
-INSIDE_ENVIRONMENT: dict[str, set[str]] = {MAGNETIC_MODE: set(), RADIO_MODE: set()}
-"""Magnetic and WiFi statistics inside their real range on every site: none yet (the
-issue "Environment realism": the simulated field lacks building-scale structure, the
-simulated WiFi is too loud, too steady, too sparse and scanned too slowly)."""
+INSIDE_ENVIRONMENT: dict[str, set[str]] = {
+    MAGNETIC_MODE: {"std_short", "mag_std"},
+    RADIO_MODE: set(),
+}
+"""Magnetic and WiFi statistics inside their real range on every site (the issue
+"Environment realism": on the generated office, basement and hall the field is still
+too rough or too weak in some bands; the simulated WiFi is too steady, its scans too
+slow, and its APs per scan off the office range on most sites)."""
 
 _REAL = load_real_motion()
 _JUDGED = [
