@@ -132,7 +132,7 @@ class BoardConfig:
     real_data: bool = True
     paper_experiments: bool = True
     realism: bool = True
-    """Also write ``realism.md``: simulated motion, field and WiFi beside real recordings."""
+    """Also write ``realism.md``: simulated motion, field, WiFi and light beside real ones."""
 
     @classmethod
     def quick(cls, scenarios: Sequence[str] | None = None) -> BoardConfig:
@@ -368,7 +368,7 @@ def write_readme(out: Path, tables: dict[str, pd.DataFrame]) -> None:
         parts += [
             "## Realism",
             "",
-            "Simulated phone motion, magnetic field and WiFi beside real recordings, "
+            "Simulated phone motion, magnetic field, WiFi and light beside real recordings, "
             "statistic by statistic: [realism.md](realism.md) (`indoorsim realism`).",
             "",
             "![realism](realism_motion.png)",

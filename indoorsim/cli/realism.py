@@ -1,8 +1,8 @@
 """``indoorsim realism``: simulated phones and buildings measured beside real recordings.
 
 Simulates walks in every carrying mode over bundled and generated sites and
-computes, with the same functions as on real logs, the motion, magnetic and
-WiFi statistics of :mod:`indoorsim.benchmark.realism`; writes ``realism.md`` (real range,
+computes, with the same functions as on real logs, the motion, magnetic, WiFi
+and light statistics of :mod:`indoorsim.benchmark.realism`; writes ``realism.md`` (real range,
 simulated value, inside or outside, per statistic and mode), the CSVs and the
 overlay plot.
 """
@@ -31,11 +31,12 @@ __all__ = ["add_realism"]
 def add_realism(subparsers: Subparsers) -> None:
     parser = subparsers.add_parser(
         "realism",
-        help="compare simulated phone motion and magnetic fields with real recordings",
+        help="compare simulated phones and buildings with real recordings",
         description="Simulate walks in every carrying mode over bundled and generated sites "
         "and compare their motion statistics (shape, spread and spectra of |a|, gyro RMS, "
-        "heading jitter and drift), and the magnetic field along handheld walks (its spectrum "
-        "against distance walked), with those of real phone logs, by the same functions. "
+        "heading jitter and drift), and along handheld walks the magnetic field (its spectrum "
+        "against distance walked), the WiFi scans and the light sensor, with those of real "
+        "phone logs, by the same functions. "
         "Writes realism.md, the CSVs and realism_motion.png.",
     )
     add_board_folders(

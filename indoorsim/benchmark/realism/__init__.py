@@ -6,6 +6,8 @@
 * :mod:`~indoorsim.benchmark.realism.motion` — a recording's walking statistics.
 * :mod:`~indoorsim.benchmark.realism.magnetic` — ‖m‖ against the distance walked:
   its amplitude, wavelength bands and correlation length.
+* :mod:`~indoorsim.benchmark.realism.radio` — WiFi scans: levels, APs per scan, temporal spread.
+* :mod:`~indoorsim.benchmark.realism.light` — the light sensor's spread, dark time and changes.
 * :mod:`~indoorsim.benchmark.realism.reference` — the real side, measured and committed.
 * :mod:`~indoorsim.benchmark.realism.report` — simulated beside real: ``realism.md``.
 """

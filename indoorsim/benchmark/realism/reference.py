@@ -36,6 +36,7 @@ from indoorsim.benchmark.realism.radio import (
 from indoorsim.io.recording import Recording
 
 __all__ = [
+    "LIGHT_MODE",
     "MAGNETIC_MODE",
     "MAGNETIC_SOURCES",
     "QUOTED_RANGES",
@@ -118,6 +119,9 @@ MAGNETIC_MODE = "magnetic"
 RADIO_MODE = "wifi"
 """The ``mode`` of the WiFi rows."""
 
+LIGHT_MODE = "light"
+"""The ``mode`` of the light rows (quoted ranges only: no real light log is local)."""
+
 UJI_FOLDER = "uji-lib-longterm-wifi/db"
 UJI_LICENCE = "CC BY 4.0 (Mendoza-Silva et al. 2018)"
 _UJI_NOT_HEARD = 100.0
@@ -170,6 +174,12 @@ QUOTED_RANGES: dict[tuple[str, str], tuple[float, float]] = {
     (RADIO_MODE, "static_std"): (3.2, 4.4),
     (RADIO_MODE, "aps_per_scan"): (14.0, 28.0),
     (RADIO_MODE, "scan_interval"): (2.0, 4.0),
+    # Its light rows: real handheld logs on lit floors (a lit ground floor for the dark
+    # share). The median depends on the building (corridors 50–300 lx, basements
+    # 9–18 lx), so it is shown, not judged.
+    (LIGHT_MODE, "lux_ratio"): (13.0, 95.0),
+    (LIGHT_MODE, "dark_share"): (0.29, 0.37),
+    (LIGHT_MODE, "dlog_std"): (0.08, 0.14),
 }
 """Real ranges quoted from the "Motion realism" and "Environment realism" issues (real
 walks measured by the reviews that opened them, some from data sets not in the real-data

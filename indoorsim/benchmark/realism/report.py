@@ -22,10 +22,12 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from indoorsim.benchmark.realism.light import LIGHT_KEYS, light_statistics
 from indoorsim.benchmark.realism.magnetic import MAGNETIC_KEYS, magnetic_statistics
 from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_statistics
 from indoorsim.benchmark.realism.radio import RADIO_KEYS, radio_statistics, static_spread
 from indoorsim.benchmark.realism.reference import (
+    LIGHT_MODE,
     MAGNETIC_MODE,
     MODELLED_MODES,
     QUOTED_RANGES,
@@ -55,6 +57,7 @@ from indoorsim.world.site import Site
 
 __all__ = [
     "COMPARED",
+    "COMPARED_LIGHT",
     "COMPARED_MAGNETIC",
     "COMPARED_RADIO",
     "RealismConfig",
@@ -103,6 +106,14 @@ COMPARED_RADIO: dict[str, str] = {
     "static_std": "spread of repeated static scans, median per (point, AP) (dB)",
 }
 """The WiFi statistics judged."""
+
+COMPARED_LIGHT: dict[str, str] = {
+    "lux_median": "median illuminance (lx)",
+    "lux_ratio": "95th / 5th percentile of illuminance",
+    "dark_share": "share of the time below 50 lx",
+    "dlog_std": "std of Δlog10(lux + 1) between reports",
+}
+"""The light statistics (the median shown, not judged: it depends on the building)."""
 
 STATIC_POINTS = 48
 STATIC_REPEATS = 12
@@ -199,8 +210,8 @@ def simulate_environment(
     config: RealismConfig = RealismConfig(), *, progress: Progress | None = None
 ) -> pd.DataFrame:
     """The building's signals along handheld walks (site × seed, one row each): the
-    magnetic field's along-path statistics and the WiFi scans' statistics, plus the
-    spread of repeated static scans at points along the route.
+    magnetic field's along-path statistics, the WiFi scans' statistics, the spread
+    of repeated static scans at points along the route, and the light sensor's.
 
     Each site is walked on its longest route (the real magnetic walks are
     46–346 m long, and the > 10 m band needs distance), held in the hand like
@@ -224,8 +235,10 @@ def simulate_environment(
                 | magnetic_statistics(rec)
                 | radio_statistics(rec)
                 | {"static_std": static_spread(levels, point)}
+                | light_statistics(rec)
             )
-    return pd.DataFrame(rows, columns=["site", "seed", "route", *MAGNETIC_KEYS, *RADIO_KEYS])
+    columns = ["site", "seed", "route", *MAGNETIC_KEYS, *RADIO_KEYS, *LIGHT_KEYS]
+    return pd.DataFrame(rows, columns=columns)
 
 
 def _pooled(profiles: list[pd.DataFrame]) -> pd.DataFrame:
@@ -336,7 +349,7 @@ def write_report(
     ``realism_sim_environment.csv``.
 
     Returns:
-        The comparison tables, motion then magnetic then WiFi, one row per
+        The comparison tables, motion then magnetic, WiFi and light, one row per
         (mode, statistic).
     """
     out.mkdir(parents=True, exist_ok=True)
@@ -375,7 +388,6 @@ def write_report(
         field = compare(real_field, sim_env.assign(mode=MAGNETIC_MODE), COMPARED_MAGNETIC)
         radio = compare(real_radio, sim_env.assign(mode=RADIO_MODE), COMPARED_RADIO)
         env_sites = list(dict.fromkeys(sim_env["site"]))
-        pd.concat([field, radio]).to_csv(out / "realism_environment.csv", index=False)
         sim_env.to_csv(out / "realism_sim_environment.csv", index=False)
         counts = real_field.dropna(subset=["mag_std"]).groupby("dataset").size().to_dict()
         routes = sim_env.groupby("site", sort=False)["route"].first()
@@ -411,6 +423,22 @@ def write_report(
             markdown(radio, env_sites, COMPARED_RADIO),
         ]
         tables += [field, radio]
+        no_real = pd.DataFrame({"mode": pd.Series(dtype=str)})
+        light = compare(no_real, sim_env.assign(mode=LIGHT_MODE), COMPARED_LIGHT)
+        lines += [
+            "## Light",
+            "",
+            "The same statistics (`indoorsim.benchmark.realism.light`) of the light "
+            "sensor's reports along the same handheld walks, each report held until the "
+            "next (Android reports on change). No real light log is in `shared/realdata`: "
+            "the ranges are the ones the Environment realism issue quotes from real "
+            "handheld logs on lit floors (the dark share on a lit ground floor); the "
+            "median is shown, not judged (real corridors 50–300 lx, basements 9–18 lx).",
+            "",
+            markdown(light, env_sites, COMPARED_LIGHT),
+        ]
+        tables.append(light)
+        pd.concat([field, radio, light]).to_csv(out / "realism_environment.csv", index=False)
     (out / "realism.md").write_text("\n".join(lines) + "\n")
     return pd.concat(tables, ignore_index=True)
 

@@ -24,6 +24,7 @@ from indoorsim.benchmark.realism.reference import (
 )
 from indoorsim.benchmark.realism.report import (
     COMPARED,
+    COMPARED_LIGHT,
     COMPARED_MAGNETIC,
     COMPARED_RADIO,
     RealismConfig,
@@ -115,7 +116,7 @@ def test_the_environment_is_measured_on_each_sites_longest_route_and_reported(tm
     )
     env = simulate_environment(config)
     assert list(env["seed"]) == [0, 1] and set(env["route"]) == {"trajectory"}
-    assert env[[*COMPARED_MAGNETIC, *COMPARED_RADIO]].notna().all().all()
+    assert env[[*COMPARED_MAGNETIC, *COMPARED_RADIO, *COMPARED_LIGHT]].notna().all().all()
     motion = pd.DataFrame({"site": ["s"], "mode": ["handheld"], "seed": [0]})
     motion = motion.assign(**{k: 1.0 for k in MOTION_KEYS})
     tables = write_report(
@@ -126,9 +127,10 @@ def test_the_environment_is_measured_on_each_sites_longest_route_and_reported(tm
         real_radio=load_real_radio(),
         sim_env=env,
     )
-    for mode, compared in (("magnetic", COMPARED_MAGNETIC), ("wifi", COMPARED_RADIO)):
+    judged = (("magnetic", COMPARED_MAGNETIC), ("wifi", COMPARED_RADIO), ("light", COMPARED_LIGHT))
+    for mode, compared in judged:
         rows = tables[tables["mode"] == mode]
         assert list(rows["statistic"]) == list(compared) and (rows["sites"] == 1).all()
     text = (tmp_path / "realism.md").read_text()
-    assert "## Magnetic field" in text and "## WiFi" in text
+    assert "## Magnetic field" in text and "## WiFi" in text and "## Light" in text
     assert "han2023_corridor: trajectory" in text
