@@ -264,7 +264,7 @@ def real_radio_table(realdata: Path) -> pd.DataFrame:
       the spread over repeats.
     """
     rows = []
-    ilc = MAGNETIC_SOURCES[1]
+    ilc = next(source for source in MAGNETIC_SOURCES if source.name == "ms-indoor-location-2020")
     for path in sorted(realdata.glob(ilc.pattern)):
         stats = radio_statistics(Recording.load(path))
         stats["aps_per_scan"] = np.nan

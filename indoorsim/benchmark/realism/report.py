@@ -62,6 +62,7 @@ __all__ = [
     "COMPARED_RADIO",
     "RealismConfig",
     "compare",
+    "compare_environment",
     "markdown",
     "run_realism",
     "simulate_environment",
@@ -198,10 +199,15 @@ def static_scans(
     return levels, np.repeat(np.arange(len(points)), STATIC_REPEATS)
 
 
+def _polyline(site: Site, route: str) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """A route's planned polyline (K, 2) and the distance along it at each vertex (K,)."""
+    pts = np.asarray(resolve_route(site, route).points, dtype=float)
+    return pts, np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+
+
 def _route_points(site: Site, route: str, n: int) -> NDArray[np.float64]:
     """``n`` points evenly spaced along a route's polyline."""
-    pts = np.asarray(resolve_route(site, route).points, dtype=float)
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+    pts, s = _polyline(site, route)
     at = np.linspace(0.0, s[-1], n)
     return np.column_stack([np.interp(at, s, pts[:, 0]), np.interp(at, s, pts[:, 1])])
 
@@ -219,11 +225,7 @@ def simulate_environment(
     """
     rows = []
     for label, site in _sites(config, config.field_generated):
-        lengths = {}
-        for route in site.scenario.routes:
-            rec = simulate(site, route=route, mode="handheld", device=config.device, seed=0)
-            lengths[route] = magnetic_statistics(rec)["path_m"]
-        route = max(lengths, key=lengths.__getitem__)
+        route = max(site.scenario.routes, key=lambda name: _polyline(site, name)[1][-1])
         points = _route_points(site, route, STATIC_POINTS)
         for seed in config.seeds:
             if progress:
@@ -297,6 +299,20 @@ def compare(
             row["sites"] = len(sites)
             rows.append(row)
     return pd.DataFrame(rows)
+
+
+def compare_environment(
+    real_field: pd.DataFrame, real_radio: pd.DataFrame, sim_env: pd.DataFrame
+) -> tuple[pd.DataFrame, pd.DataFrame, pd.DataFrame]:
+    """:func:`compare` for the magnetic, WiFi and light rows of
+    :func:`simulate_environment` (light against the quoted ranges alone: no real
+    light log is local)."""
+    no_real = pd.DataFrame({"mode": pd.Series(dtype=str)})
+    return (
+        compare(real_field, sim_env.assign(mode=MAGNETIC_MODE), COMPARED_MAGNETIC),
+        compare(real_radio, sim_env.assign(mode=RADIO_MODE), COMPARED_RADIO),
+        compare(no_real, sim_env.assign(mode=LIGHT_MODE), COMPARED_LIGHT),
+    )
 
 
 def _cell(value: float, low: float, high: float) -> str:
@@ -385,8 +401,7 @@ def write_report(
     ]
     tables = [table]
     if real_field is not None and real_radio is not None and sim_env is not None:
-        field = compare(real_field, sim_env.assign(mode=MAGNETIC_MODE), COMPARED_MAGNETIC)
-        radio = compare(real_radio, sim_env.assign(mode=RADIO_MODE), COMPARED_RADIO)
+        field, radio, light = compare_environment(real_field, real_radio, sim_env)
         env_sites = list(dict.fromkeys(sim_env["site"]))
         sim_env.to_csv(out / "realism_sim_environment.csv", index=False)
         counts = real_field.dropna(subset=["mag_std"]).groupby("dataset").size().to_dict()
@@ -423,8 +438,6 @@ def write_report(
             markdown(radio, env_sites, COMPARED_RADIO),
         ]
         tables += [field, radio]
-        no_real = pd.DataFrame({"mode": pd.Series(dtype=str)})
-        light = compare(no_real, sim_env.assign(mode=LIGHT_MODE), COMPARED_LIGHT)
         lines += [
             "## Light",
             "",

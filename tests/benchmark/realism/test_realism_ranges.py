@@ -34,6 +34,7 @@ from indoorsim.benchmark.realism.report import (
     COMPARED_RADIO,
     RealismConfig,
     compare,
+    compare_environment,
     real_range,
     simulate_environment,
     simulate_motion,
@@ -127,11 +128,8 @@ def comparison() -> pd.DataFrame:
 @pytest.fixture(scope="module")
 def environment_comparison() -> pd.DataFrame:
     sim = simulate_environment(RealismConfig())
-    field = compare(load_real_magnetic(), sim.assign(mode=MAGNETIC_MODE), COMPARED_MAGNETIC)
-    radio = compare(load_real_radio(), sim.assign(mode=RADIO_MODE), COMPARED_RADIO)
-    no_real = pd.DataFrame({"mode": pd.Series(dtype=str)})
-    light = compare(no_real, sim.assign(mode=LIGHT_MODE), COMPARED_LIGHT)
-    return pd.concat([field, radio, light]).set_index(["mode", "statistic"])
+    tables = compare_environment(load_real_magnetic(), load_real_radio(), sim)
+    return pd.concat(tables).set_index(["mode", "statistic"])
 
 
 def _assert_inside(table: pd.DataFrame, mode: str, key: str) -> None:
