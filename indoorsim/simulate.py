@@ -11,7 +11,8 @@ body rate of the phone's true trajectory, the magnetometer the site's field at
 the phone rotated into the phone frame (for a magnetometer with noise, the
 field along the path of :meth:`~indoorsim.world.magnetic.MagneticModel.field_along`:
 within ``PATH_FIELD_ERROR_UT`` of the exact sum), the light sensor the illuminance on
-the screen's normal (shadowed by head or pocket), WiFi scans the mean RSS at
+the screen's normal (shadowed by the carrier's head and trunk, the head at the ear or
+the pocket), WiFi scans the mean RSS at
 the phone. Each then passes through the device's error model, and the fused
 sensors are computed from the *noisy* raw streams by the phone's attitude
 filter.
@@ -231,7 +232,16 @@ def sample_sensors(
     # The screen's outward normal, phone +z, in the world frame.
     normals = imu.to_world_frame(t_fine, [0.0, 0.0, 1.0])
     exposure = np.interp(t_fine, phone.t, phone.light_exposure)
-    lux_fine = site.illuminance(imu.position(t_fine), normals) * exposure
+    where = imu.position(t_fine)
+    if phone.carrier is None:
+        lux_fine = site.illuminance(where, normals)
+    else:
+        # The carrier's head and trunk shadow the sensor where the mode models them.
+        shaded, body = phone.carrier.shadow_at(t_fine)
+        lux_fine = np.empty(len(t_fine))
+        lux_fine[shaded] = site.illuminance(where[shaded], normals[shaded], body)
+        lux_fine[~shaded] = site.illuminance(where[~shaded], normals[~shaded])
+    lux_fine *= exposure
     t_light, lux = light_events(t_fine, lux_fine, device.light, rngs["light"])
 
     t_scan = wifi_scans(duration, device.wifi, rngs["wifi_times"], start=t0)

@@ -11,7 +11,7 @@ errors, and never reads a field model directly.
   own fused attitude (its rotation vector: magnetic east, magnetic north, up)
   and averaged; the light sensor's events are averaged too; WiFi scans heard
   during the stay are averaged per AP, the surveyor's body shadowing the APs
-  behind them. The device's turn-on errors are drawn
+  behind them and, with the head, the light sensor. The device's turn-on errors are drawn
   once per survey (one phone) and its noise per sample.
 * **Walk survey** (Chen2022 §3): the surveyor walks the survey's route with
   the phone in hand, tapping a marker at reference points ``reference_spacing``
@@ -51,6 +51,9 @@ from indoorsim.phone.sensors import (
 )
 from indoorsim.scenario.schema import GridSurveySpec, WalkSurveySpec
 from indoorsim.util.seeding import SURVEY, named_streams
+from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, WalkerParams
+from indoorsim.walker.silhouette import silhouette
+from indoorsim.world.light import BodyShadow
 from indoorsim.world.site import Site
 
 # Child streams of a survey's SeedSequence, by name (append only).
@@ -127,14 +130,13 @@ def grid_survey(
     gyro_err = InertialErrors.draw(profile.gyro, err_rng)
     mag_err = MagnetometerErrors.draw(profile.mag, err_rng)
     noise = rngs["noise"]
-    field_w = site.magnetic_field(np.column_stack([pts, np.full(len(pts), spec.height)]))
-    lux_true = site.illuminance(
-        np.column_stack([pts, np.full(len(pts), spec.height)]), att.apply([0.0, 0.0, 1.0])
-    )
     where = np.column_stack([pts, np.full(len(pts), spec.height)])
+    field_w = site.magnetic_field(where)
     facing = np.tile(
         [math.cos(math.radians(heading_deg)), math.sin(math.radians(heading_deg))], (len(pts), 1)
     )
+    # The surveyor stands behind the phone: their head and trunk shade its light sensor.
+    lux_true = site.illuminance(where, att.apply([0.0, 0.0, 1.0]), _surveyor_body(pts, facing))
     rss_true = site.rss(where) - site.radio.body_shadow_db(where, _surveyor(pts, facing))
     rows = []
     for k in range(len(pts)):
@@ -177,6 +179,15 @@ SURVEY_HOLD_M = 0.3
 def _surveyor(points: NDArray[np.float64], facing: NDArray[np.float64]) -> NDArray[np.float64]:
     """The surveyor's trunk in plan: :data:`SURVEY_HOLD_M` behind the phone, facing ``facing``."""
     return points - SURVEY_HOLD_M * facing
+
+
+def _surveyor_body(points: NDArray[np.float64], facing: NDArray[np.float64]) -> BodyShadow:
+    """The surveyor's head and trunk, standing at :func:`_surveyor` facing ``facing``:
+    an adult of the default walker's height."""
+    height = WalkerParams().height_m
+    trunk = _surveyor(points, facing)
+    pelvis = np.column_stack([trunk, np.full(len(trunk), PELVIS_HEIGHT_RATIO * height)])
+    return silhouette(pelvis, np.arctan2(facing[:, 1], facing[:, 0]), height)
 
 
 def _static_wifi(

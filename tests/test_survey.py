@@ -9,6 +9,8 @@ import indoorsim
 from indoorsim.io.fingerprints import FingerprintDB
 from indoorsim.scenario import GridSurveySpec, WalkSurveySpec
 from indoorsim.survey import SURVEY_HOLD_M, grid_points, grid_survey, walk_survey
+from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, WalkerParams
+from indoorsim.walker.silhouette import silhouette
 
 
 @pytest.fixture(scope="module")
@@ -41,11 +43,16 @@ def test_ideal_grid_survey_measures_the_field_in_the_phones_geographic_frame(bas
     np.testing.assert_allclose(grid["mag_x"], 0.0, atol=1e-6)
     np.testing.assert_allclose(grid["mag_y"], np.hypot(field[:, 0], field[:, 1]), atol=1e-6)
     np.testing.assert_allclose(grid["mag_z"], field[:, 2], atol=1e-6)
-    lux = basement.illuminance(xyz, np.tile([0.0, 0.0, 1.0], (len(xyz), 1)))
-    np.testing.assert_allclose(grid["lux"], lux, rtol=0.06)  # the hand tilts ~1°
     # The surveyor faces +y (heading 90°), holding the phone SURVEY_HOLD_M in front:
-    # their body shadows the APs behind them.
+    # their head and trunk shade the light sensor, their body the APs behind them.
     trunk = xyz[:, :2] - [0.0, SURVEY_HOLD_M]
+    height = WalkerParams().height_m
+    pelvis = np.column_stack([trunk, np.full(len(trunk), PELVIS_HEIGHT_RATIO * height)])
+    body = silhouette(pelvis, np.full(len(trunk), np.pi / 2), height)
+    up = np.tile([0.0, 0.0, 1.0], (len(xyz), 1))
+    lux = basement.illuminance(xyz, up, body)
+    np.testing.assert_allclose(grid["lux"], lux, rtol=0.06)  # the hand tilts ~1°
+    assert (lux < 0.9 * basement.illuminance(xyz, up)).any()  # a luminaire behind the head
     rss = basement.rss(xyz) - basement.radio.body_shadow_db(xyz, trunk)
     assert basement.radio.body_shadow_db(xyz, trunk).max() > 0
     for k, b in enumerate(basement.radio.bssids):

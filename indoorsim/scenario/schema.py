@@ -211,12 +211,18 @@ class LuminaireSpec(_Spec):
     intensity_cd: NonNegFloat
     exponent: NonNegFloat = 1.0
     axis: Vec3 = (0.0, 0.0, -1.0)
+    size: tuple[NonNegFloat, NonNegFloat] = (0.0, 0.0)
+    """The emitting face, length × width (m) across the axis: a panel 0.6 × 0.6, a
+    tube 1.2 × 0.03, a downlight 0.2 × 0.2. Only the carrier's penumbra uses it;
+    the photometry is the point source's."""
+    along: Vec3 = (1.0, 0.0, 0.0)
+    """Direction of the face's length (a tube's axis)."""
 
-    @field_validator("axis")
+    @field_validator("axis", "along")
     @classmethod
     def _unit_axis(cls, v: tuple[float, float, float]) -> tuple[float, float, float]:
         if math.hypot(*v) < 1e-9:
-            raise ValueError("axis must be a non-zero vector")
+            raise ValueError("must be a non-zero vector")
         return v
 
 

@@ -39,7 +39,10 @@ toward +y, has the identity quaternion.
 ``light_exposure`` scales the illuminance the light sensor would see with its
 normal unobstructed (REALISM §3.5): 1 in the hand (the screen normal's sweep
 already modulates the light), 0.05–0.2 at the ear (head shadow), 0.001–0.005
-in a pocket (fabric).
+in a pocket (fabric). In the hand, the carrier's head and trunk shadow the
+sensor geometrically instead (:mod:`indoorsim.walker.silhouette`): a mode
+whose ``casts_body_shadow`` is False (at the ear, in a pocket) has its
+exposure stand for the body it touches.
 """
 
 from __future__ import annotations
@@ -72,6 +75,7 @@ from indoorsim.walker.modes import (
 from indoorsim.walker.motion import impulse_displacement
 from indoorsim.walker.physics import PYMUNK_LOCK
 from indoorsim.walker.schedule import ModeSchedule, ScheduleError, ScheduleLike
+from indoorsim.walker.silhouette import Carrier
 
 __all__ = [
     "ENTRY_POINT_GROUP",
@@ -156,8 +160,9 @@ class PhoneTrajectory:
             middle of a transition on).
         light_exposure: (K,) in [0, 1], the fraction of the unobstructed
             illuminance reaching the light sensor.
-        torso_xy: (K, 2) the carrier's trunk axis in plan (the body centre), m: the
-            body that shadows the phone's radio; None for a phone nobody carries.
+        carrier: the person carrying it, whose trunk shadows the phone's radio
+            and whose head and trunk shadow its light sensor; None for a phone
+            nobody carries.
     """
 
     t: NDArray[np.float64]
@@ -165,7 +170,12 @@ class PhoneTrajectory:
     quat: NDArray[np.float64]
     mode: NDArray[np.str_]
     light_exposure: NDArray[np.float64]
-    torso_xy: NDArray[np.float64] | None = None
+    carrier: Carrier | None = None
+
+    @property
+    def torso_xy(self) -> NDArray[np.float64] | None:
+        """(K, 2) the carrier's trunk axis in plan (the body centre), m, or None."""
+        return None if self.carrier is None else self.carrier.torso_xy
 
 
 # ---------------------------------------------------------------------- carry
@@ -260,7 +270,13 @@ def carry(
         quat=_sign_continuous(quat),
         mode=mode,
         light_exposure=np.clip(light, 0.0, 1.0),
-        torso_xy=np.ascontiguousarray(body.pos[:, :2]),
+        carrier=Carrier(
+            t=t,
+            pos=body.pos,
+            trunk_yaw=body.yaw,
+            height_m=body.height_m,
+            shades=np.array([e[1].casts_body_shadow for e in entries])[which],
+        ),
     )
 
 
@@ -518,6 +534,7 @@ class Calling(CarryMode):
     """
 
     name: ClassVar[str] = "calling"
+    casts_body_shadow: ClassVar[bool] = False  # its exposure is the head's shade
     ear: Literal["right", "left"] = "right"
     """The ear the phone is held to; its screen faces the head."""
     tilt_deg: float | None = None
@@ -797,6 +814,7 @@ class Pocketed(CarryMode):
     """
 
     name: ClassVar[str] = "pocketed"
+    casts_body_shadow: ClassVar[bool] = False  # its exposure is the fabric's
     side: Literal["right", "left"] | None = None
     """The pocket's side; None draws it per use."""
     thigh_swing_deg: float | None = None

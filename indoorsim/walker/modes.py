@@ -71,6 +71,10 @@ class CarryMode(ABC):
     """
 
     name: ClassVar[str]
+    casts_body_shadow: ClassVar[bool] = True
+    """Whether the carrier's head and trunk shadow the light sensor geometrically
+    (:mod:`indoorsim.walker.silhouette`). False where the phone touches the body
+    and the mode's ``light_exposure`` stands for it instead (at the ear, in a pocket)."""
 
     @abstractmethod
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:

@@ -20,6 +20,11 @@ normal n̂, from three parts (DESIGN §4 "Light", REALISM §3):
   luminance L = τ·E_v/π, cut into small patches that are point sources
   I(θ) = L·dA·cos θ about the inward window normal, evaluated by the same
   direct-term kernel as the luminaires.
+* **The carrier's body** (REALISM §3.1, §3.5; see :class:`BodyShadow`): the
+  head and trunk of the person holding the phone, per receiver, are opaque
+  solids. A source's direct term is 0 when its sight line passes through
+  them, and the ambient term loses the share of the receiver's
+  cosine-weighted view they fill, less the light the body itself reflects.
 
 Units: m, cd, lm, lx, cd/m². Frame: the building frame, z up from the floor.
 """
@@ -43,7 +48,14 @@ if TYPE_CHECKING:
     from indoorsim.scenario.schema import ReflectanceSpec, Scenario, WallSpec, WindowSpec
     from indoorsim.world.plan import FloorPlan
 
-__all__ = ["LightModel", "PointSources", "RoomAmbient", "direct_illuminance", "window_patches"]
+__all__ = [
+    "BodyShadow",
+    "LightModel",
+    "PointSources",
+    "RoomAmbient",
+    "direct_illuminance",
+    "window_patches",
+]
 
 MIN_DISTANCE_M = 0.05
 """Source–receiver distances below this are clamped, keeping E finite. A real
@@ -65,17 +77,33 @@ _PROBE_M = 0.05
 class PointSources:
     """S point sources with axially symmetric intensity I(θ) = intensity_cd · cos^exponent θ.
 
+    Photometrically each source is a point (the far-field model). Its emitting
+    face, a rectangle about the position across the axis, matters only where
+    something near the receiver hides part of it: the carrier's body casts a
+    penumbra, not a hard shadow (:func:`direct_illuminance`).
+
     Attributes:
         position: (S, 3) source positions, m.
         axis: (S, 3) unit vectors of peak emission (θ = 0).
         intensity_cd: (S,) peak intensity I0, cd.
         exponent: (S,) cosine-power n (1 = Lambertian; 0 = uniform over the front hemisphere).
+        face_u: (S, 3) half the emitting face's length, as a vector across the axis, m
+            (zero for a point).
+        face_v: (S, 3) half its width, as a vector across the axis and ``face_u``, m.
     """
 
     position: NDArray[np.float64]
     axis: NDArray[np.float64]
     intensity_cd: NDArray[np.float64]
     exponent: NDArray[np.float64]
+    face_u: NDArray[np.float64] | None = None
+    face_v: NDArray[np.float64] | None = None
+
+    def __post_init__(self) -> None:
+        # Faces default to points: zero half-extents.
+        for name in ("face_u", "face_v"):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, np.zeros((len(self.position), 3)))
 
     def __len__(self) -> int:
         return len(self.position)
@@ -87,18 +115,43 @@ class PointSources:
 
     @classmethod
     def from_arrays(
-        cls, position: ArrayLike, axis: ArrayLike, intensity_cd: ArrayLike, exponent: ArrayLike
+        cls,
+        position: ArrayLike,
+        axis: ArrayLike,
+        intensity_cd: ArrayLike,
+        exponent: ArrayLike,
+        size_m: ArrayLike = (0.0, 0.0),
+        along: ArrayLike = (1.0, 0.0, 0.0),
     ) -> PointSources:
-        """Sources from array-likes; the axes are normalised."""
+        """Sources from array-likes; the axes are normalised.
+
+        Args:
+            size_m: (S, 2) or (2,) the emitting face's length and width, m.
+            along: (S, 3) or (3,) the direction of the face's length; its part
+                across the axis is used (with the axis along it, the face
+                takes a direction across the axis).
+        """
         pos = np.asarray(position, dtype=float).reshape(-1, 3)
         ax = np.asarray(axis, dtype=float).reshape(-1, 3)
         ax = ax / np.linalg.norm(ax, axis=1, keepdims=True)
         n = len(pos)
+        size = np.broadcast_to(np.asarray(size_m, dtype=float), (n, 2))
+        u = np.broadcast_to(np.asarray(along, dtype=float), (n, 3)).copy()
+        u -= np.sum(u * ax, axis=1, keepdims=True) * ax
+        length = np.linalg.norm(u, axis=1)
+        # An ``along`` parallel to the axis: any direction across it.
+        fallback = np.cross(ax, [0.0, 0.0, 1.0])
+        fallback[np.linalg.norm(fallback, axis=1) < 1e-9] = [1.0, 0.0, 0.0]
+        u = np.where(length[:, None] > 1e-9, u / np.maximum(length, 1e-12)[:, None], fallback)
+        u /= np.linalg.norm(u, axis=1, keepdims=True)
+        v = np.cross(ax, u)
         return cls(
             position=pos,
             axis=ax,
             intensity_cd=np.broadcast_to(np.asarray(intensity_cd, dtype=float), (n,)).copy(),
             exponent=np.broadcast_to(np.asarray(exponent, dtype=float), (n,)).copy(),
+            face_u=u * size[:, :1] / 2,
+            face_v=v * size[:, 1:] / 2,
         )
 
     @classmethod
@@ -119,7 +172,347 @@ class PointSources:
             axis=np.concatenate([g.axis for g in groups]),
             intensity_cd=np.concatenate([g.intensity_cd for g in groups]),
             exponent=np.concatenate([g.exponent for g in groups]),
+            face_u=np.concatenate([g.face_u for g in groups]),
+            face_v=np.concatenate([g.face_v for g in groups]),
         )
+
+
+BODY_REFLECTANCE = 0.35
+"""Mean diffuse reflectance of a clothed body (skin 0.35–0.5, clothing 0.1–0.6) [E]:
+the share of the light falling on the body that it sends back toward the sensor."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class BodyShadow:
+    """The carrier's head and trunk as opaque solids, one pose per receiver.
+
+    The head is a sphere; the trunk an upright elliptic cylinder from the
+    floor to the shoulders, its short axis along the way the trunk faces.
+    Sizes are anthropometric (:mod:`indoorsim.walker.carry` builds them from
+    the walker's height); the arms and the hand are not modelled.
+
+    Attributes:
+        head: (N, 3) centre of the head, m.
+        head_radius_m: the head sphere's radius.
+        trunk_xy: (N, 2) the trunk's axis in plan, m.
+        trunk_yaw: (N,) the direction the trunk faces, rad from +x.
+        trunk_top: (N,) height of the shoulders, m.
+        trunk_half_depth_m: semi-axis front to back.
+        trunk_half_width_m: semi-axis side to side.
+    """
+
+    head: NDArray[np.float64]
+    head_radius_m: float
+    trunk_xy: NDArray[np.float64]
+    trunk_yaw: NDArray[np.float64]
+    trunk_top: NDArray[np.float64]
+    trunk_half_depth_m: float
+    trunk_half_width_m: float
+
+    def __post_init__(self) -> None:
+        n = len(self.head)
+        shapes = {
+            "head": (self.head.shape, (n, 3)),
+            "trunk_xy": (self.trunk_xy.shape, (n, 2)),
+            "trunk_yaw": (self.trunk_yaw.shape, (n,)),
+            "trunk_top": (self.trunk_top.shape, (n,)),
+        }
+        for name, (got, want) in shapes.items():
+            if got != want:
+                raise ValueError(f"BodyShadow.{name}: expected shape {want}, got {got}")
+        for name in ("head_radius_m", "trunk_half_depth_m", "trunk_half_width_m"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"BodyShadow.{name} must be > 0, got {getattr(self, name)}")
+
+    def __len__(self) -> int:
+        return len(self.head)
+
+    def _kernel_args(self) -> tuple:
+        """The arrays and sizes the compiled kernels take, contiguous."""
+        return (
+            np.ascontiguousarray(self.head, dtype=float),
+            float(self.head_radius_m),
+            np.ascontiguousarray(self.trunk_xy, dtype=float),
+            np.ascontiguousarray(np.cos(self.trunk_yaw), dtype=float),
+            np.ascontiguousarray(np.sin(self.trunk_yaw), dtype=float),
+            np.ascontiguousarray(self.trunk_top, dtype=float),
+            float(self.trunk_half_depth_m),
+            float(self.trunk_half_width_m),
+        )
+
+    def blocks(self, points: ArrayLike, targets: ArrayLike) -> NDArray[np.bool_]:
+        """(N,) whether the segment from each receiver ``points[i]`` to ``targets[i]``
+        passes through the body (N, 3 each)."""
+        p = np.ascontiguousarray(points, dtype=float)
+        q = np.ascontiguousarray(targets, dtype=float)
+        if p.shape != (len(self), 3) or q.shape != p.shape:
+            raise ValueError(
+                f"points and targets must be ({len(self)}, 3), got {p.shape}, {q.shape}"
+            )
+        out = np.zeros(len(p), np.bool_)
+        _blocks_each(p, q, *self._kernel_args(), out)
+        return out
+
+    def view_blocked(self, points: ArrayLike, normals: ArrayLike) -> NDArray[np.float64]:
+        """(N,) share of each receiver's cosine-weighted view of the room the body fills.
+
+        Estimated with :data:`VIEW_DIRECTIONS` fixed, cosine-weighted directions
+        about the normal (a Fibonacci spiral on the unit disc, lifted onto the
+        hemisphere), so the share is exact to about 1/``VIEW_DIRECTIONS`` and
+        the same for the same pose.
+        """
+        p = np.ascontiguousarray(points, dtype=float)
+        n = np.ascontiguousarray(normals, dtype=float)
+        if p.shape != (len(self), 3) or n.shape != p.shape:
+            raise ValueError(
+                f"points and normals must be ({len(self)}, 3), got {p.shape}, {n.shape}"
+            )
+        out = np.zeros(len(p))
+        _view_blocked(p, n, _VIEW_DISC, *self._kernel_args(), out)
+        return out
+
+
+VIEW_DIRECTIONS = 96
+"""Directions per receiver for the body's share of the ambient view."""
+
+
+def _fibonacci_disc(k: int) -> NDArray[np.float64]:
+    """(k, 2) points spread evenly over the unit disc (Vogel's spiral): lifted to
+    z = √(1 − r²), they are cosine-weighted directions on the hemisphere."""
+    i = np.arange(k) + 0.5
+    r = np.sqrt(i / k)
+    phi = i * math.pi * (3.0 - math.sqrt(5.0))
+    return np.column_stack([r * np.cos(phi), r * np.sin(phi)])
+
+
+_VIEW_DISC = _fibonacci_disc(VIEW_DIRECTIONS)
+
+# How far a view ray is followed: past any part of the body.
+_VIEW_REACH_M = 4.0
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _body_blocks(
+    px,
+    py,
+    pz,
+    qx,
+    qy,
+    qz,
+    i,
+    head,
+    head_r,
+    trunk,
+    cos_yaw,
+    sin_yaw,
+    top,
+    half_depth,
+    half_width,
+    grow,
+):  # pragma: no cover - compiled
+    """True when the segment p→q passes through receiver i's head sphere or trunk
+    (an upright elliptic cylinder under ``top[i]``), each grown by ``grow`` m on
+    every side (which holds every point within ``grow`` of them)."""
+    head_r = head_r + grow
+    half_depth, half_width = half_depth + grow, half_width + grow
+    dx, dy, dz = qx - px, qy - py, qz - pz
+    length2 = dx * dx + dy * dy + dz * dz
+    if length2 == 0.0:
+        return False
+    # Head: the segment's closest approach to the centre.
+    hx, hy, hz = head[i, 0] - px, head[i, 1] - py, head[i, 2] - pz
+    u = min(max((hx * dx + hy * dy + hz * dz) / length2, 0.0), 1.0)
+    ex, ey, ez = hx - u * dx, hy - u * dy, hz - u * dz
+    if ex * ex + ey * ey + ez * ez < head_r * head_r:
+        return True
+    # Trunk: the part of the segment below the shoulders, in the trunk's frame
+    # scaled to a unit circle; the least |a + u·b|² over that part.
+    lo, hi = 0.0, 1.0
+    roof = top[i] + grow
+    if dz > 0.0:
+        hi = min(hi, (roof - pz) / dz)
+    elif dz < 0.0:
+        lo = max(lo, (roof - pz) / dz)
+    elif pz > roof:
+        return False
+    if hi < lo:
+        return False
+    c, s = cos_yaw[i], sin_yaw[i]
+    rx, ry = px - trunk[i, 0], py - trunk[i, 1]
+    ax = (c * rx + s * ry) / half_depth
+    ay = (-s * rx + c * ry) / half_width
+    bx = (c * dx + s * dy) / half_depth
+    by = (-s * dx + c * dy) / half_width
+    bb = bx * bx + by * by
+    u = lo
+    if bb > 0.0:
+        u = min(max(-(ax * bx + ay * by) / bb, lo), hi)
+    fx, fy = ax + u * bx, ay + u * by
+    return fx * fx + fy * fy < 1.0
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _blocks_each(
+    p, q, head, head_r, trunk, cos_yaw, sin_yaw, top, half_depth, half_width, out
+):  # pragma: no cover - compiled
+    for i in range(p.shape[0]):
+        out[i] = _body_blocks(
+            p[i, 0],
+            p[i, 1],
+            p[i, 2],
+            q[i, 0],
+            q[i, 1],
+            q[i, 2],
+            i,
+            head,
+            head_r,
+            trunk,
+            cos_yaw,
+            sin_yaw,
+            top,
+            half_depth,
+            half_width,
+            0.0,
+        )
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _view_blocked(
+    p, n, disc, head, head_r, trunk, cos_yaw, sin_yaw, top, half_depth, half_width, out
+):  # pragma: no cover - compiled
+    """Per receiver, the share of the cosine-weighted directions ``disc`` (lifted
+    about the normal) whose rays the body stops within ``_VIEW_REACH_M``."""
+    k = disc.shape[0]
+    for i in range(p.shape[0]):
+        nx, ny, nz = n[i, 0], n[i, 1], n[i, 2]
+        # An orthonormal frame (t1, t2, n) about the normal.
+        if abs(nz) < 0.9:
+            t1x, t1y, t1z = -ny, nx, 0.0
+        else:
+            t1x, t1y, t1z = 0.0, -nz, ny
+        norm = math.sqrt(t1x * t1x + t1y * t1y + t1z * t1z)
+        t1x, t1y, t1z = t1x / norm, t1y / norm, t1z / norm
+        t2x, t2y, t2z = ny * t1z - nz * t1y, nz * t1x - nx * t1z, nx * t1y - ny * t1x
+        hit = 0
+        for j in range(k):
+            a, b = disc[j, 0], disc[j, 1]
+            w = math.sqrt(max(1.0 - a * a - b * b, 0.0))
+            wx = a * t1x + b * t2x + w * nx
+            wy = a * t1y + b * t2y + w * ny
+            wz = a * t1z + b * t2z + w * nz
+            r = _VIEW_REACH_M
+            if _body_blocks(
+                p[i, 0],
+                p[i, 1],
+                p[i, 2],
+                p[i, 0] + r * wx,
+                p[i, 1] + r * wy,
+                p[i, 2] + r * wz,
+                i,
+                head,
+                head_r,
+                trunk,
+                cos_yaw,
+                sin_yaw,
+                top,
+                half_depth,
+                half_width,
+                0.0,
+            ):
+                hit += 1
+        out[i] = hit / k
+
+
+FACE_STEP_M = 0.1
+"""Spacing of the points over a source's face for its body penumbra, m. The head,
+a few tenths of a metre from the sensor, shades a patch of the ceiling several
+times its own size, so this resolves the penumbra well."""
+_FACE_POINTS_MAX = 12  # per side of the face
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _face_in_view(
+    px,
+    py,
+    pz,
+    s,
+    pos,
+    face_u,
+    face_v,
+    i,
+    head,
+    head_r,
+    trunk,
+    cos_yaw,
+    sin_yaw,
+    top,
+    half_depth,
+    half_width,
+):  # pragma: no cover - compiled
+    """The share of source s's face that receiver i sees past its body, in [0, 1].
+
+    When even the body grown by the face's half-diagonal leaves the sight line
+    to the centre clear, every sight line to the face is clear (each stays
+    within that distance of it): 1 at once. Otherwise the face is sampled on
+    an even grid of cells at most :data:`FACE_STEP_M` on a side.
+    """
+    ux, uy, uz = face_u[s, 0], face_u[s, 1], face_u[s, 2]
+    vx, vy, vz = face_v[s, 0], face_v[s, 1], face_v[s, 2]
+    lu = math.sqrt(ux * ux + uy * uy + uz * uz)
+    lv = math.sqrt(vx * vx + vy * vy + vz * vz)
+    sx, sy, sz = pos[s, 0], pos[s, 1], pos[s, 2]
+    reach = math.sqrt(lu * lu + lv * lv)
+    if not _body_blocks(
+        px,
+        py,
+        pz,
+        sx,
+        sy,
+        sz,
+        i,
+        head,
+        head_r,
+        trunk,
+        cos_yaw,
+        sin_yaw,
+        top,
+        half_depth,
+        half_width,
+        reach,
+    ):
+        return 1.0
+    if reach == 0.0:
+        return 0.0
+    nu = min(max(math.ceil(2.0 * lu / FACE_STEP_M), 1), _FACE_POINTS_MAX)
+    nv = min(max(math.ceil(2.0 * lv / FACE_STEP_M), 1), _FACE_POINTS_MAX)
+    clear = 0
+    for a in range(nu):
+        fa = 2.0 * (a + 0.5) / nu - 1.0
+        for b in range(nv):
+            fb = 2.0 * (b + 0.5) / nv - 1.0
+            qx = sx + fa * ux + fb * vx
+            qy = sy + fa * uy + fb * vy
+            qz = sz + fa * uz + fb * vz
+            if not _body_blocks(
+                px,
+                py,
+                pz,
+                qx,
+                qy,
+                qz,
+                i,
+                head,
+                head_r,
+                trunk,
+                cos_yaw,
+                sin_yaw,
+                top,
+                half_depth,
+                half_width,
+                0.0,
+            ):
+                clear += 1
+    return clear / (nu * nv)
 
 
 def direct_illuminance(
@@ -127,6 +520,7 @@ def direct_illuminance(
     points: NDArray[np.float64],
     normals: NDArray[np.float64],
     plan: FloorPlan | None = None,
+    body: BodyShadow | None = None,
 ) -> NDArray[np.float64]:
     """(N,) direct illuminance (lx) of point sources on receivers, with wall occlusion.
 
@@ -138,8 +532,14 @@ def direct_illuminance(
         points: (N, 3) receiver positions, m.
         normals: (N, 3) receiver unit normals.
         plan: occluding geometry; ``None`` for free space.
+        body: the carrier's body at each receiver, which also occludes; ``None``
+            for none. Its shadow is soft: the direct term is scaled by the share
+            of points spread over the source's face (:data:`FACE_STEP_M` apart)
+            whose sight lines the body leaves clear.
     """
     out = np.zeros(len(points))
+    if body is not None and len(body) != len(points):
+        raise ValueError(f"body: {len(body)} poses for {len(points)} receivers")
     if plan is not None:
         sa, sb, elem, transmittance = plan.light_occluders
     else:
@@ -159,15 +559,32 @@ def direct_illuminance(
         np.ascontiguousarray(sources.axis, dtype=float),
         np.ascontiguousarray(sources.intensity_cd, dtype=float),
         np.ascontiguousarray(sources.exponent, dtype=float),
+        np.ascontiguousarray(sources.face_u, dtype=float),
+        np.ascontiguousarray(sources.face_v, dtype=float),
         sa,
         sb,
         np.ascontiguousarray(elem, dtype=np.intp),
         np.ascontiguousarray(transmittance, dtype=float),
         start,
         items,
+        body is not None,
+        *(body._kernel_args() if body is not None else _NO_BODY),
         out,
     )
     return out
+
+
+# The kernel's body arguments when there is no body (never read).
+_NO_BODY = (
+    np.zeros((1, 3)),
+    1.0,
+    np.zeros((1, 2)),
+    np.ones(1),
+    np.zeros(1),
+    np.zeros(1),
+    1.0,
+    1.0,
+)
 
 
 # Directions around a source are binned this finely for the occlusion test.
@@ -265,7 +682,30 @@ _CHUNK = 32
 
 @numba.njit(cache=True, error_model="numpy")
 def _direct(
-    p, n, pos, axis, i0, expo, sa, sb, elem, transmittance, start, items, out
+    p,
+    n,
+    pos,
+    axis,
+    i0,
+    expo,
+    face_u,
+    face_v,
+    sa,
+    sb,
+    elem,
+    transmittance,
+    start,
+    items,
+    has_body,
+    head,
+    head_r,
+    trunk,
+    cos_yaw,
+    sin_yaw,
+    top,
+    half_depth,
+    half_width,
+    out,
 ):  # pragma: no cover - compiled
     """The sum of :func:`direct_illuminance`, each receiver's sources in order.
 
@@ -276,7 +716,9 @@ def _direct(
     test (the costly part) runs per receiver in front of the source and
     facing it, against the segments that span its direction, unless none of
     those segments comes near the chunk's sight lines (:func:`_off_box`:
-    then nothing is crossed, T = 1, exactly what the test would find).
+    then nothing is crossed, T = 1, exactly what the test would find). With
+    ``has_body``, a source's term is scaled by the share of its face the
+    receiver's body leaves in view (:func:`_face_in_view`).
     """
     d2_min = MIN_DISTANCE_M * MIN_DISTANCE_M
     nb = _DIRECTION_BINS
@@ -330,6 +772,28 @@ def _direct(
                 cos_psi = facing / d
                 if cos_theta <= 0.0 or cos_psi <= 0.0:
                     continue  # (an underflow to 0)
+                seen = 1.0
+                if has_body:
+                    seen = _face_in_view(
+                        p[i, 0],
+                        p[i, 1],
+                        p[i, 2],
+                        s,
+                        pos,
+                        face_u,
+                        face_v,
+                        i,
+                        head,
+                        head_r,
+                        trunk,
+                        cos_yaw,
+                        sin_yaw,
+                        top,
+                        half_depth,
+                        half_width,
+                    )
+                    if seen == 0.0:
+                        continue
                 t = 1.0
                 if sa.shape[0]:
                     row = s * nb + _direction_bin(-vx, -vy)
@@ -344,7 +808,7 @@ def _direct(
                         if t == 0.0:
                             continue  # it would add e·0 = 0: skip the power
                 e = i0[s] * (cos_theta if expo[s] == 1.0 else cos_theta ** expo[s]) * cos_psi / d2
-                out[i] += e * t
+                out[i] += e * t * seen
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
@@ -556,6 +1020,8 @@ def window_patches(
                 np.broadcast_to([inward[0], inward[1], 0.0], position.shape),
                 luminance * (width / nu) * (height / nv),
                 1.0,
+                size_m=(width / nu, height / nv),
+                along=(u[0], u[1], 0.0),
             )
         )
     return PointSources.concat(*groups)
@@ -610,6 +1076,8 @@ class LightModel:
             np.array([lum.axis for lum in lums], dtype=float).reshape(-1, 3),
             np.array([lum.intensity_cd for lum in lums], dtype=float),
             np.array([lum.exponent for lum in lums], dtype=float),
+            np.array([lum.size for lum in lums], dtype=float).reshape(-1, 2),
+            np.array([lum.along for lum in lums], dtype=float).reshape(-1, 3),
         )
         self.n_luminaires = len(luminaires)
         if scenario.light.daylight.enabled:
@@ -626,21 +1094,31 @@ class LightModel:
                 door_openings(scenario, plan.rooms),
             )
 
-    def illuminance(self, points: ArrayLike, normals: ArrayLike) -> NDArray[np.float64]:
+    def illuminance(
+        self, points: ArrayLike, normals: ArrayLike, body: BodyShadow | None = None
+    ) -> NDArray[np.float64]:
         """(N,) illuminance in lux on receivers at (N, 3) points with (N, 3) unit normals.
 
         Args:
             points: (N, 3) receiver positions, m.
             normals: (N, 3) receiver normals (normalised here), or one (3,)
                 normal for all receivers.
+            body: the carrier's body at each receiver. It stops the direct
+                light whose sight line it crosses, and takes its share f of the
+                receiver's view of the room (:meth:`BodyShadow.view_blocked`)
+                from the ambient term, giving back what it reflects:
+                E_amb·(1 − (1 − ρ_body)·f), ρ_body = :data:`BODY_REFLECTANCE`.
 
         Raises:
             ValueError: for arrays of the wrong shape or a zero-length normal.
         """
         p, n = _receivers(points, normals)
-        out = direct_illuminance(self.sources, p, n, self.plan)
+        out = direct_illuminance(self.sources, p, n, self.plan, body)
         if self.ambient is not None:
-            out += self.ambient(p, n)
+            ambient = self.ambient(p, n)
+            if body is not None:
+                ambient *= 1.0 - (1.0 - BODY_REFLECTANCE) * body.view_blocked(p, n)
+            out += ambient
         return out
 
 

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from indoorsim.scenario.schema import Scenario
-from indoorsim.world.light import LightModel
+from indoorsim.world.light import BodyShadow, LightModel
 from indoorsim.world.magnetic import MagneticModel
 from indoorsim.world.plan import plan_for
 from indoorsim.world.radio import RadioModel
@@ -55,13 +55,16 @@ class Site:
         """(N, 3) magnetic flux density in µT, building frame, at (N, 3) points."""
         return self.magnetic.field(_finite_rows(points, "points"))
 
-    def illuminance(self, points: ArrayLike, normals: ArrayLike) -> NDArray[np.float64]:
-        """(N,) illuminance in lux on receivers at (N, 3) points with (N, 3) unit normals."""
+    def illuminance(
+        self, points: ArrayLike, normals: ArrayLike, body: BodyShadow | None = None
+    ) -> NDArray[np.float64]:
+        """(N,) illuminance in lux on receivers at (N, 3) points with (N, 3) unit normals,
+        shaded by the carrier's ``body`` at each receiver when given."""
         p = _finite_rows(points, "points")
         n = _finite_rows(normals, "normals")
         if len(n) != len(p):
             raise ValueError(f"normals: {len(n)} rows for {len(p)} points")
-        return self.light.illuminance(p, n)
+        return self.light.illuminance(p, n, body)
 
     def rss(self, points: ArrayLike) -> NDArray[np.float64]:
         """(N, n_ap) mean received power in dBm at (N, 3) points (no per-scan fading)."""
@@ -87,4 +90,3 @@ def _finite_rows(values: ArrayLike, name: str) -> NDArray[np.float64]:
         row = int(np.argmin(finite))
         raise ValueError(f"{name}: row {row} is not finite: {a[row].tolist()}")
     return a
-

@@ -84,6 +84,9 @@ def test_luminaires_follow_realism(kind: str, seed: int, built) -> None:
         assert 500 <= lum.intensity_cd <= 1800  # REALISM §3.2
         assert 1.0 <= lum.exponent <= 2.75
         assert lum.position[2] == s.site.ceiling_height
+        # Each has the face of its type: a tube, a panel or a downlight (REALISM §3.2).
+        assert tuple(lum.size) in {(1.2, 0.03), (0.6, 0.6), (0.2, 0.2)}
+        assert lum.along[2] == 0.0 and np.hypot(*lum.along[:2]) == pytest.approx(1.0, abs=1e-3)
 
 
 @pytest.mark.parametrize(("kind", "seed"), CASES)

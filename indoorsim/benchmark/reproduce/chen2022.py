@@ -193,7 +193,6 @@ def figure_errors(
 ) -> dict[str, dict[str, dict[str, NDArray[np.float64]]]]:
     """Pooled window errors for Fig. 8, 10 and 23: figure → mode → curve label → errors."""
 
-
     runs: dict[str, list[tuple[str, str, dict[str, Any], str]]] = {
         # curve label, estimator, constructor parameters, survey phone
         "fig8": [

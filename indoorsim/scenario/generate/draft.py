@@ -68,13 +68,18 @@ class _Fixture:
 
     intensity_cd: tuple[float, float]
     exponent: tuple[float, float]
+    size: tuple[float, float]
+    """The emitting face, length × width, m (a tube lies along its line of lights)."""
 
 
 _FIXTURES = {
-    "tube": _Fixture(intensity_cd=(500.0, 600.0), exponent=(1.0, 1.2)),
-    "panel": _Fixture(intensity_cd=(1500.0, 1800.0), exponent=(2.4, 2.75)),
-    "downlight": _Fixture(intensity_cd=(900.0, 1400.0), exponent=(1.5, 2.0)),
+    "tube": _Fixture(intensity_cd=(500.0, 600.0), exponent=(1.0, 1.2), size=(1.2, 0.03)),
+    "panel": _Fixture(intensity_cd=(1500.0, 1800.0), exponent=(2.4, 2.75), size=(0.6, 0.6)),
+    "downlight": _Fixture(intensity_cd=(900.0, 1400.0), exponent=(1.5, 2.0), size=(0.2, 0.2)),
 }
+
+Fixture = tuple[float, float, tuple[float, float]]
+"""One area's luminaire type as drawn: (intensity_cd, exponent, size)."""
 
 
 def _induced_direction(latitude: float, north_deg: float) -> np.ndarray:
@@ -353,16 +358,20 @@ class Draft:
 
     # ------------------------------------------------------------------ light, radio, steel
 
-    def fixture(self, name: str) -> tuple[float, float]:
-        """One luminaire type for an area: (intensity_cd, exponent)."""
+    def fixture(self, name: str) -> Fixture:
+        """One luminaire type for an area: (intensity_cd, exponent, size)."""
         f = _FIXTURES[name]
         return (
             mm(round(self.rng.uniform(*f.intensity_cd), -1)),
             mm(round(self.rng.uniform(*f.exponent), 2)),
+            f.size,
         )
 
-    def light(self, x: float, y: float, fixture: tuple[float, float]) -> None:
-        """A ceiling luminaire of ``fixture`` at (x, y), unless a pillar stands there."""
+    def light(
+        self, x: float, y: float, fixture: Fixture, along: tuple[float, float] = (1.0, 0.0)
+    ) -> None:
+        """A ceiling luminaire of ``fixture`` at (x, y), its length along ``along``,
+        unless a pillar stands there."""
         if not self.clear_of_pillars(x, y, 0.2):
             return
         self.luminaires.append(
@@ -370,6 +379,8 @@ class Draft:
                 "position": [mm(x), mm(y), mm(self.h)],
                 "intensity_cd": fixture[0],
                 "exponent": fixture[1],
+                "size": list(fixture[2]),
+                "along": [mm(along[0]), mm(along[1]), 0.0],
             }
         )
 
@@ -378,15 +389,17 @@ class Draft:
         a: tuple[float, float],
         b: tuple[float, float],
         spacing: float,
-        fixture: tuple[float, float],
+        fixture: Fixture,
     ) -> None:
-        """Evenly spaced lights along a→b, half a spacing in from each end."""
-        n = max(1, round(math.dist(a, b) / spacing))
+        """Evenly spaced lights along a→b, half a spacing in from each end, lying along it."""
+        length = math.dist(a, b)
+        n = max(1, round(length / spacing))
+        along = ((b[0] - a[0]) / length, (b[1] - a[1]) / length) if length > 0 else (1.0, 0.0)
         for i in range(n):
             t = (i + 0.5) / n
-            self.light(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), fixture)
+            self.light(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), fixture, along)
 
-    def light_grid(self, cell: Cell, spacing: float, fixture: tuple[float, float]) -> None:
+    def light_grid(self, cell: Cell, spacing: float, fixture: Fixture) -> None:
         """Lights on a grid of about ``spacing`` over ``cell``, half a step in from its edges."""
         nx = max(1, round(cell.width / spacing))
         ny = max(1, round(cell.depth / spacing))
