@@ -233,14 +233,15 @@ def sample_sensors(
     normals = imu.to_world_frame(t_fine, [0.0, 0.0, 1.0])
     exposure = np.interp(t_fine, phone.t, phone.light_exposure)
     where = imu.position(t_fine)
+    k = device.light.response_exponent
     if phone.carrier is None:
-        lux_fine = site.illuminance(where, normals)
+        lux_fine = site.illuminance(where, normals, response_exponent=k)
     else:
         # The carrier's head and trunk shadow the sensor where the mode models them.
         shaded, body = phone.carrier.shadow_at(t_fine)
         lux_fine = np.empty(len(t_fine))
-        lux_fine[shaded] = site.illuminance(where[shaded], normals[shaded], body)
-        lux_fine[~shaded] = site.illuminance(where[~shaded], normals[~shaded])
+        lux_fine[shaded] = site.illuminance(where[shaded], normals[shaded], body, k)
+        lux_fine[~shaded] = site.illuminance(where[~shaded], normals[~shaded], response_exponent=k)
     lux_fine *= exposure
     t_light, lux = light_events(t_fine, lux_fine, device.light, rngs["light"])
 

@@ -136,7 +136,12 @@ def grid_survey(
         [math.cos(math.radians(heading_deg)), math.sin(math.radians(heading_deg))], (len(pts), 1)
     )
     # The surveyor stands behind the phone: their head and trunk shade its light sensor.
-    lux_true = site.illuminance(where, att.apply([0.0, 0.0, 1.0]), _surveyor_body(pts, facing))
+    lux_true = site.illuminance(
+        where,
+        att.apply([0.0, 0.0, 1.0]),
+        _surveyor_body(pts, facing),
+        profile.light.response_exponent,
+    )
     rss_true = site.rss(where) - site.radio.body_shadow_db(where, _surveyor(pts, facing))
     rows = []
     for k in range(len(pts)):

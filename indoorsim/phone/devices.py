@@ -54,6 +54,7 @@ __all__ = [
     "UnknownDeviceError",
     "WifiSpec",
     "available_devices",
+    "cosine_power",
     "get_device",
 ]
 
@@ -188,6 +189,15 @@ class MagnetometerSpec:
         )
 
 
+def cosine_power(half_sensitivity_deg: float) -> float:
+    """The k of an angular response cosᵏψ that falls to half at ``half_sensitivity_deg``
+    (REALISM §1.6: a bare photodiode is a cosine, k = 1 at 60°; behind a phone's
+    cover glass and aperture ±35–60°): k = ln ½ / ln cos ψ½."""
+    if not 0.0 < half_sensitivity_deg <= 60.0:
+        raise ValueError(f"half_sensitivity_deg must be in (0, 60], got {half_sensitivity_deg}")
+    return math.log(0.5) / math.log(math.cos(math.radians(half_sensitivity_deg)))
+
+
 @dataclass(frozen=True, kw_only=True)
 class LightSensorSpec:
     """Ambient light sensor (Android ``TYPE_LIGHT``, an on-change sensor).
@@ -209,6 +219,11 @@ class LightSensorSpec:
         change_threshold_frac: with ``on_change``, a reading counts as changed
             when it differs from the last reported one and by at least this
             fraction of it.
+        half_sensitivity_deg: incidence angle at which the sensor's response
+            falls to half: 60° is a cosine receiver (a bare photodiode); behind a
+            phone's cover glass and aperture ±35–60° (REALISM §1.6). The
+            response is cosᵏψ with k from :func:`cosine_power`,
+            calibrated at normal incidence.
     """
 
     max_event_rate_hz: float = math.inf
@@ -218,6 +233,7 @@ class LightSensorSpec:
     relative_noise: float = 0.0
     on_change: bool = False
     change_threshold_frac: float = 0.0
+    half_sensitivity_deg: float = 60.0
 
     def __post_init__(self) -> None:
         _check(
@@ -230,6 +246,16 @@ class LightSensorSpec:
             ),
             positive=("max_event_rate_hz", "range_lux"),
         )
+        if not 0.0 < self.half_sensitivity_deg <= 60.0:
+            raise ValueError(
+                f"half_sensitivity_deg must be in (0, 60] (60 is a cosine receiver), "
+                f"got {self.half_sensitivity_deg}"
+            )
+
+    @property
+    def response_exponent(self) -> float:
+        """k of the angular response cosᵏψ (1 for a cosine receiver)."""
+        return cosine_power(self.half_sensitivity_deg)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -396,6 +422,7 @@ _VIVO_S9 = DeviceProfile(
         range_uT=4912.0,
     ),
     light=LightSensorSpec(
+        half_sensitivity_deg=47.5,  # behind cover glass: mid ±35–60° [E] (REALISM §1.6)
         max_event_rate_hz=10.0,
         integration_time_s=0.1,
         range_lux=65535.0,
@@ -490,6 +517,7 @@ _NEXUS_5X = DeviceProfile(
         range_uT=1300.0,
     ),
     light=LightSensorSpec(
+        half_sensitivity_deg=47.5,  # behind cover glass: mid ±35–60° [E] (REALISM §1.6)
         max_event_rate_hz=5.0,
         integration_time_s=0.1,
         range_lux=43000.0,
@@ -585,6 +613,7 @@ _HONOR_50 = DeviceProfile(
         range_uT=4912.0,
     ),
     light=LightSensorSpec(
+        half_sensitivity_deg=47.5,  # behind cover glass: mid ±35–60° [E] (REALISM §1.6)
         max_event_rate_hz=10.0,
         integration_time_s=0.1,
         range_lux=65535.0,
@@ -669,6 +698,7 @@ _LOW_GRADE = DeviceProfile(
         range_uT=900.0,
     ),
     light=LightSensorSpec(
+        half_sensitivity_deg=47.5,  # behind cover glass: mid ±35–60° [E] (REALISM §1.6)
         max_event_rate_hz=2.0,
         integration_time_s=0.2,
         range_lux=10000.0,
@@ -747,6 +777,7 @@ _MID_GRADE = DeviceProfile(
         range_uT=4912.0,
     ),
     light=LightSensorSpec(
+        half_sensitivity_deg=47.5,  # behind cover glass: mid ±35–60° [E] (REALISM §1.6)
         max_event_rate_hz=5.0,
         integration_time_s=0.1,
         range_lux=30000.0,
@@ -822,6 +853,7 @@ _HIGH_GRADE = DeviceProfile(
         range_uT=4912.0,
     ),
     light=LightSensorSpec(
+        half_sensitivity_deg=47.5,  # behind cover glass: mid ±35–60° [E] (REALISM §1.6)
         max_event_rate_hz=10.0,
         integration_time_s=0.05,
         range_lux=65535.0,

@@ -25,6 +25,10 @@ normal n̂, from three parts (DESIGN §4 "Light", REALISM §3):
   solids. A source's direct term is 0 when its sight line passes through
   them, and the ambient term loses the share of the receiver's
   cosine-weighted view they fill, less the light the body itself reflects.
+* **The receiver's response**: a cosine receiver (an illuminance meter) by
+  default; a phone's sensor behind its aperture responds as cosᵏψ, k ≥ 1
+  (REALISM §1.6), exactly in the direct term and as for diffuse light,
+  2/(k + 1), in the ambient term.
 
 Units: m, cd, lm, lx, cd/m². Frame: the building frame, z up from the floor.
 """
@@ -53,6 +57,7 @@ __all__ = [
     "LightModel",
     "PointSources",
     "RoomAmbient",
+    "diffuse_response",
     "direct_illuminance",
     "window_patches",
 ]
@@ -521,6 +526,7 @@ def direct_illuminance(
     normals: NDArray[np.float64],
     plan: FloorPlan | None = None,
     body: BodyShadow | None = None,
+    response_exponent: float = 1.0,
 ) -> NDArray[np.float64]:
     """(N,) direct illuminance (lx) of point sources on receivers, with wall occlusion.
 
@@ -536,7 +542,14 @@ def direct_illuminance(
             for none. Its shadow is soft: the direct term is scaled by the share
             of points spread over the source's face (:data:`FACE_STEP_M` apart)
             whose sight lines the body leaves clear.
+        response_exponent: the receiver's angular response cosᵏψ (k = 1: a true
+            cosine receiver, an illuminance meter; a phone's sensor behind its
+            aperture is narrower,
+            :func:`~indoorsim.phone.devices.cosine_power`). Calibrated at
+            normal incidence, so a source straight ahead reads the same.
     """
+    if not response_exponent >= 1.0:
+        raise ValueError(f"response_exponent must be ≥ 1, got {response_exponent}")
     out = np.zeros(len(points))
     if body is not None and len(body) != len(points):
         raise ValueError(f"body: {len(body)} poses for {len(points)} receivers")
@@ -567,11 +580,18 @@ def direct_illuminance(
         np.ascontiguousarray(transmittance, dtype=float),
         start,
         items,
+        float(response_exponent),
         body is not None,
         *(body._kernel_args() if body is not None else _NO_BODY),
         out,
     )
     return out
+
+
+def diffuse_response(k: float) -> float:
+    """What a cosᵏ receiver calibrated at normal incidence reads in a uniform diffuse
+    field, as a share of the true illuminance: ∫cosᵏψ dΩ / ∫cosψ dΩ = 2/(k + 1)."""
+    return 2.0 / (k + 1.0)
 
 
 # The kernel's body arguments when there is no body (never read).
@@ -696,6 +716,7 @@ def _direct(
     transmittance,
     start,
     items,
+    response,
     has_body,
     head,
     head_r,
@@ -718,7 +739,8 @@ def _direct(
     those segments comes near the chunk's sight lines (:func:`_off_box`:
     then nothing is crossed, T = 1, exactly what the test would find). With
     ``has_body``, a source's term is scaled by the share of its face the
-    receiver's body leaves in view (:func:`_face_in_view`).
+    receiver's body leaves in view (:func:`_face_in_view`). The receiver's
+    response is cos^``response`` ψ.
     """
     d2_min = MIN_DISTANCE_M * MIN_DISTANCE_M
     nb = _DIRECTION_BINS
@@ -807,6 +829,8 @@ def _direct(
                         )
                         if t == 0.0:
                             continue  # it would add e·0 = 0: skip the power
+                if response != 1.0:
+                    cos_psi = cos_psi**response
                 e = i0[s] * (cos_theta if expo[s] == 1.0 else cos_theta ** expo[s]) * cos_psi / d2
                 out[i] += e * t * seen
 
@@ -1095,7 +1119,11 @@ class LightModel:
             )
 
     def illuminance(
-        self, points: ArrayLike, normals: ArrayLike, body: BodyShadow | None = None
+        self,
+        points: ArrayLike,
+        normals: ArrayLike,
+        body: BodyShadow | None = None,
+        response_exponent: float = 1.0,
     ) -> NDArray[np.float64]:
         """(N,) illuminance in lux on receivers at (N, 3) points with (N, 3) unit normals.
 
@@ -1108,16 +1136,21 @@ class LightModel:
                 receiver's view of the room (:meth:`BodyShadow.view_blocked`)
                 from the ambient term, giving back what it reflects:
                 E_amb·(1 − (1 − ρ_body)·f), ρ_body = :data:`BODY_REFLECTANCE`.
+            response_exponent: the receiver's angular response cosᵏψ (1: an
+                illuminance meter). The direct term takes it exactly; the
+                ambient term, taken as diffuse, the share :func:`diffuse_response`.
 
         Raises:
             ValueError: for arrays of the wrong shape or a zero-length normal.
         """
         p, n = _receivers(points, normals)
-        out = direct_illuminance(self.sources, p, n, self.plan, body)
+        out = direct_illuminance(self.sources, p, n, self.plan, body, response_exponent)
         if self.ambient is not None:
             ambient = self.ambient(p, n)
             if body is not None:
                 ambient *= 1.0 - (1.0 - BODY_REFLECTANCE) * body.view_blocked(p, n)
+            if response_exponent != 1.0:
+                ambient *= diffuse_response(response_exponent)
             out += ambient
         return out
 

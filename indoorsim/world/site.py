@@ -56,15 +56,20 @@ class Site:
         return self.magnetic.field(_finite_rows(points, "points"))
 
     def illuminance(
-        self, points: ArrayLike, normals: ArrayLike, body: BodyShadow | None = None
+        self,
+        points: ArrayLike,
+        normals: ArrayLike,
+        body: BodyShadow | None = None,
+        response_exponent: float = 1.0,
     ) -> NDArray[np.float64]:
         """(N,) illuminance in lux on receivers at (N, 3) points with (N, 3) unit normals,
-        shaded by the carrier's ``body`` at each receiver when given."""
+        shaded by the carrier's ``body`` at each receiver when given, as a receiver of
+        angular response cosᵏψ reads it (k = ``response_exponent``; 1 is a true meter)."""
         p = _finite_rows(points, "points")
         n = _finite_rows(normals, "normals")
         if len(n) != len(p):
             raise ValueError(f"normals: {len(n)} rows for {len(p)} points")
-        return self.light.illuminance(p, n, body)
+        return self.light.illuminance(p, n, body, response_exponent)
 
     def rss(self, points: ArrayLike) -> NDArray[np.float64]:
         """(N, n_ap) mean received power in dBm at (N, 3) points (no per-scan fading)."""

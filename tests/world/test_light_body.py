@@ -9,11 +9,13 @@ import math
 import numpy as np
 import pytest
 
+from indoorsim.phone.devices import LightSensorSpec, cosine_power, get_device
 from indoorsim.world.light import (
     BODY_REFLECTANCE,
     BodyShadow,
     LightModel,
     PointSources,
+    diffuse_response,
     direct_illuminance,
 )
 
@@ -197,3 +199,46 @@ def test_a_face_lies_across_the_axis_along_its_length():
     odd = PointSources.from_arrays([0, 0, 3.0], [0, 0, -1.0], 1.0, 1.0, (0.6, 0.6), (0, 0, 1.0))
     assert abs(odd.face_u[0] @ [0.0, 0.0, 1.0]) < 1e-12
     assert np.linalg.norm(odd.face_u[0]) == pytest.approx(0.3)
+
+
+@pytest.mark.parametrize("k", [1.0, 1.78, 3.0])
+def test_a_narrow_receiver_reads_a_point_source_by_cos_k_and_diffuse_light_by_2_over_k_plus_1(k):
+    # A uniform point source 2 m away at 40° incidence: E = I0·cosᵏψ/d².
+    psi = math.radians(40.0)
+    src = PointSources.from_arrays(
+        [2 * math.sin(psi), 0.0, 2 * math.cos(psi)], [-math.sin(psi), 0, -math.cos(psi)], 500.0, 0.0
+    )
+    up = np.array([[0.0, 0.0, 1.0]])
+    got = direct_illuminance(src, np.zeros((1, 3)), up, response_exponent=k)[0]
+    assert got == pytest.approx(500.0 * math.cos(psi) ** k / 4.0, rel=1e-12)
+    # Straight ahead it reads the same as a cosine meter (calibrated at normal incidence).
+    ahead = PointSources.from_arrays([0.0, 0.0, 2.0], [0.0, 0.0, -1.0], 500.0, 0.0)
+    assert direct_illuminance(ahead, np.zeros((1, 3)), up, response_exponent=k)[0] == 125.0
+    # A uniform diffuse field: ∫cosᵏ dΩ / ∫cos dΩ, here by quadrature over the hemisphere.
+    theta = np.linspace(0.0, math.pi / 2, 20001)
+    ratio = np.trapezoid(np.cos(theta) ** k * np.sin(theta), theta) / 0.5
+    assert diffuse_response(k) == pytest.approx(ratio, rel=1e-6)
+
+
+def test_the_ambient_term_reads_as_diffuse_light_through_a_narrow_receiver():
+    model = _model(
+        _box(10.0, 6.0, luminaires=[{"position": [2.5, 3.0, 3.0], "intensity_cd": 800.0}])
+    )
+    p, up = np.array([[7.0, 3.0, 1.2]]), np.array([[0.0, 0.0, 1.0]])
+    k = cosine_power(47.5)
+    direct = direct_illuminance(model.sources, p, up, model.plan, response_exponent=k)[0]
+    want = direct + model.ambient(p, up)[0] * 2 / (k + 1)
+    assert model.illuminance(p, up, response_exponent=k)[0] == pytest.approx(want)
+
+
+def test_the_half_sensitivity_angle_gives_the_cosine_power():
+    assert cosine_power(60.0) == pytest.approx(1.0)
+    for half in (35.0, 47.5, 55.0):
+        assert math.cos(math.radians(half)) ** cosine_power(half) == pytest.approx(0.5)
+    assert LightSensorSpec().response_exponent == pytest.approx(1.0)
+    assert get_device("nexus_5x").light.response_exponent > 1.0
+    with pytest.raises(ValueError, match="half_sensitivity_deg"):
+        LightSensorSpec(half_sensitivity_deg=75.0)
+    with pytest.raises(ValueError, match="response_exponent"):
+        up = np.array([[0.0, 0.0, 1.0]])
+        direct_illuminance(PointSources.empty(), np.zeros((1, 3)), up, response_exponent=0.5)
