@@ -21,6 +21,13 @@ Run::
     .venv/bin/python benchmarks/bench_light_radio.py            # 100 000 points
     .venv/bin/python benchmarks/bench_light_radio.py --points 20000
 
+Then the carrier's body (the head and trunk of a walker holding each receiver
+as a phone in the hand, facing a random way) on the first 20 000 points, with
+every luminaire given a 0.6 m panel face: the compiled penumbra kernel against
+numpy testing every sight line to every point of the face against the body
+(no shortcut), in free space so that only the body is timed; and the body's
+share of the ambient view, timed alone.
+
 The model's occlusion queries run through small matrix products, which OpenBLAS
 spreads over all cores; on a busy machine set ``OPENBLAS_NUM_THREADS=1`` for
 stable figures (the shapely reference is single-threaded either way).
@@ -38,7 +45,14 @@ import shapely
 from numpy.typing import NDArray
 
 from indoorsim.scenario import Scenario, parse_scenario
-from indoorsim.world.light import LightModel, direct_illuminance
+from indoorsim.walker.silhouette import silhouette
+from indoorsim.world.light import (
+    FACE_STEP_M,
+    BodyShadow,
+    LightModel,
+    PointSources,
+    direct_illuminance,
+)
 from indoorsim.world.plan import FloorPlan
 from indoorsim.world.radio import RadioModel, free_space_loss_1m_db
 
@@ -111,6 +125,8 @@ def office_floor(*, ambient: bool = False) -> Scenario:
             "luminaires": luminaires,
             "wifi": wifi,
             "light": {"ambient": ambient},
+            # One storey: the reference has no slabs (its APs are this floor's).
+            "radio": {"floors_above": 0, "floors_below": 0},
         }
     )
 
@@ -202,6 +218,64 @@ def reference_rss(
     return out
 
 
+def carriers(points: NDArray[np.float64], rng: np.random.Generator) -> BodyShadow:
+    """A 1.75 m walker behind each receiver, holding it 0.22 m ahead of the trunk."""
+    yaw = rng.uniform(0.0, 2.0 * np.pi, len(points))
+    ahead = 0.22 * np.column_stack([np.cos(yaw), np.sin(yaw)])
+    pelvis = np.column_stack([points[:, :2] - ahead, np.full(len(points), 0.53 * 1.75)])
+    return silhouette(pelvis, yaw, 1.75)
+
+
+def _np_body_blocks(p: NDArray[np.float64], q: NDArray[np.float64], b: BodyShadow) -> NDArray:
+    """(N,) whether each segment p→q (N, 3) passes through the body, in plain numpy."""
+    d = q - p
+    h = b.head - p
+    u = np.clip((h * d).sum(1) / (d * d).sum(1), 0.0, 1.0)
+    head = ((h - u[:, None] * d) ** 2).sum(1) < b.head_radius_m**2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cut = (b.trunk_top - p[:, 2]) / d[:, 2]
+    lo = np.where(d[:, 2] < 0, np.maximum(cut, 0.0), 0.0)
+    hi = np.where(d[:, 2] > 0, np.minimum(cut, 1.0), 1.0)
+    flat = (d[:, 2] == 0) & (p[:, 2] > b.trunk_top)
+    c, s = np.cos(b.trunk_yaw), np.sin(b.trunk_yaw)
+    r = p[:, :2] - b.trunk_xy
+    ax = (c * r[:, 0] + s * r[:, 1]) / b.trunk_half_depth_m
+    ay = (-s * r[:, 0] + c * r[:, 1]) / b.trunk_half_width_m
+    bx = (c * d[:, 0] + s * d[:, 1]) / b.trunk_half_depth_m
+    by = (-s * d[:, 0] + c * d[:, 1]) / b.trunk_half_width_m
+    bb = bx * bx + by * by
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = np.where(bb > 0, np.clip(-(ax * bx + ay * by) / bb, lo, hi), lo)
+    trunk = ((ax + u * bx) ** 2 + (ay + u * by) ** 2 < 1.0) & (hi >= lo) & ~flat
+    return head | trunk
+
+
+def reference_body_illuminance(
+    sources: PointSources, points: NDArray[np.float64], normals: NDArray[np.float64], body
+) -> NDArray[np.float64]:
+    """Free-space direct illuminance, each source scaled by the share of its face's grid
+    points whose sight lines the body leaves clear, every sight line tested."""
+    out = np.zeros(len(points))
+    for j in range(len(sources)):
+        pos, u, v = sources.position[j], sources.face_u[j], sources.face_v[j]
+        nu = min(max(int(np.ceil(2 * np.linalg.norm(u) / FACE_STEP_M)), 1), 12)
+        nv = min(max(int(np.ceil(2 * np.linalg.norm(v) / FACE_STEP_M)), 1), 12)
+        clear = np.zeros(len(points))
+        for a in range(nu):
+            for b in range(nv):
+                q = pos + (2 * (a + 0.5) / nu - 1) * u + (2 * (b + 0.5) / nv - 1) * v
+                clear += ~_np_body_blocks(points, np.broadcast_to(q, points.shape), body)
+        vec = pos - points
+        d2 = np.maximum((vec * vec).sum(1), 0.05**2)
+        d = np.sqrt(d2)
+        cos_theta = -(vec @ sources.axis[j]) / d
+        cos_psi = (vec * normals).sum(1) / d
+        e = sources.intensity_cd[j] * np.clip(cos_theta, 0, None) ** sources.exponent[j]
+        e = np.where((cos_theta > 0) & (cos_psi > 0), e * cos_psi / d2, 0.0)
+        out += e * clear / (nu * nv)
+    return out
+
+
 # ---------------------------------------------------------------- timing
 
 
@@ -256,6 +330,31 @@ def main() -> None:
     )
     print(f"  ambient    full model with the ambient term: {t_ambient:.3f} s")
     print(f"  values     median {np.median(e):.0f} lx, {np.mean(e == 0):.1%} of points unlit")
+
+    m = min(n, 20_000)
+    body = carriers(points[:m], np.random.default_rng(1))
+    src = light.sources
+    faced = PointSources.from_arrays(
+        src.position, src.axis, src.intensity_cd, src.exponent, size_m=(0.6, 0.6)
+    )
+    pm, nm = points[:m], normals[:m]
+    e_body, t_body = best_of(lambda: direct_illuminance(faced, pm, nm, body=body), args.repeat)
+    e_body_ref, t_body_ref = best_of(lambda: reference_body_illuminance(faced, pm, nm, body), 1)
+    np.testing.assert_allclose(e_body, e_body_ref, rtol=1e-9, atol=1e-9)
+    _, t_bare = best_of(lambda: direct_illuminance(faced, pm, nm), args.repeat)
+    share, t_view = best_of(lambda: body.view_blocked(pm, nm), args.repeat)
+    pairs = m * len(faced)
+    print("\ncarrier's body (0.6 m faces, free space; agrees with the reference to 1e-9)")
+    print(_row("model", t_body, m, pairs, "luminaire"))
+    print(_row("reference", t_body_ref, m, pairs, "luminaire"))
+    print(f"  ratio      reference time / model time = {t_body_ref / t_body:.1f}")
+    print(f"  body       {t_body - t_bare:.3f} s of the model's {t_body:.3f} s is the penumbra")
+    print(
+        f"  view       body's share of the ambient view: {t_view:.3f} s, "
+        f"{m / t_view:.3g} points/s (mean share {share.mean():.2f})"
+    )
+    darker = np.mean(e_body < 0.999 * direct_illuminance(faced, pm, nm))
+    print(f"  values     {darker:.1%} of points lose direct light to the body")
 
     radio = RadioModel(scenario, plan)
     rss, t_radio = best_of(lambda: radio.rss(points), args.repeat)
