@@ -238,10 +238,15 @@ def sample_sensors(
         lux_fine = site.illuminance(where, normals, response_exponent=k)
     else:
         # The carrier's head and trunk shadow the sensor where the mode models them.
-        shaded, body = phone.carrier.shadow_at(t_fine)
-        lux_fine = np.empty(len(t_fine))
-        lux_fine[shaded] = site.illuminance(where[shaded], normals[shaded], body, k)
-        lux_fine[~shaded] = site.illuminance(where[~shaded], normals[~shaded], response_exponent=k)
+        # While one mode blends into another the shaded and bare readings blend too.
+        weight, body = phone.carrier.shadow_at(t_fine)
+        some, full = weight > 0, weight >= 1
+        lux_fine = np.zeros(len(t_fine))
+        lux_fine[some] = weight[some] * site.illuminance(where[some], normals[some], body, k)
+        bare = ~full
+        lux_fine[bare] += (1 - weight[bare]) * site.illuminance(
+            where[bare], normals[bare], response_exponent=k
+        )
     lux_fine *= exposure
     t_light, lux = light_events(t_fine, lux_fine, device.light, rngs["light"])
 

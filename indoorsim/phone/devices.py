@@ -195,6 +195,8 @@ def cosine_power(half_sensitivity_deg: float) -> float:
     cover glass and aperture ±35–60°): k = ln ½ / ln cos ψ½."""
     if not 0.0 < half_sensitivity_deg <= 60.0:
         raise ValueError(f"half_sensitivity_deg must be in (0, 60], got {half_sensitivity_deg}")
+    if half_sensitivity_deg == 60.0:
+        return 1.0  # exactly: cos 60° = ½ only to a rounding error
     return math.log(0.5) / math.log(math.cos(math.radians(half_sensitivity_deg)))
 
 

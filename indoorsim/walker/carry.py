@@ -234,12 +234,15 @@ def carry(
     pos = np.empty((n, 3))
     quat = np.empty((n, 4))
     light = np.empty(n)
+    shade = np.empty(n)  # how much the body's own shadow counts (blended like the exposure)
+    flags = [float(e[1].casts_body_shadow) for e in entries]
     # Each sample's mode as an index into the schedule: a string array of a
     # whole walk costs more to fill sample by sample than its poses do.
     which = np.empty(n, dtype=np.intp)
     for j, (i0, pose) in enumerate(poses):
         sl = slice(i0, i0 + len(pose.pos))
         pos[sl], light[sl] = pose.pos, pose.light_exposure
+        shade[sl] = flags[j]
         limbs.put_scalar_first(quat[sl], pose.rot)
         which[sl] = j
         if j == 0:
@@ -252,6 +255,7 @@ def carry(
         wc = w[:, None]
         pos[i0 : i0 + k] = (1 - wc) * prev.pos[a] + wc * pose.pos[:k]
         light[i0 : i0 + k] = (1 - w) * prev.light_exposure[a] + w * pose.light_exposure[:k]
+        shade[i0 : i0 + k] = (1 - w) * flags[j - 1] + w * flags[j]
         limbs.put_scalar_first(quat[i0 : i0 + k], _slerp(prev.rot[a], pose.rot[:k], w))
         which[i0 : i0 + k] = np.where(w < 0.5, j - 1, j)
     # Sized by the longest name in use, as a string array built from the names would be.
@@ -275,7 +279,7 @@ def carry(
             pos=body.pos,
             trunk_yaw=body.yaw,
             height_m=body.height_m,
-            shades=np.array([e[1].casts_body_shadow for e in entries])[which],
+            shades=shade,
         ),
     )
 

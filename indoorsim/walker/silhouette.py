@@ -97,31 +97,40 @@ class Carrier:
         pos: (K, 3) body centre (pelvis), m.
         trunk_yaw: (K,) the direction the trunk faces, rad, unwrapped.
         height_m: body height.
-        shades: (K,) whether the body's shadow on the light sensor is modelled
-            here: False where the carrying mode's ``light_exposure`` already
-            stands for the body the phone touches (at the ear, in a pocket).
+        shades: (K,) in [0, 1], how much the body's shadow on the light sensor
+            counts: 0 where the carrying mode's ``light_exposure`` already
+            stands for the body the phone touches (at the ear, in a pocket), 1
+            where it does not, in between while one mode blends into another.
     """
 
     t: NDArray[np.float64]
     pos: NDArray[np.float64]
     trunk_yaw: NDArray[np.float64]
     height_m: float
-    shades: NDArray[np.bool_]
+    shades: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        k = len(self.t)
+        for name, want in (("pos", (k, 3)), ("trunk_yaw", (k,)), ("shades", (k,))):
+            got = np.shape(getattr(self, name))
+            if got != want:
+                raise ValueError(f"Carrier.{name}: expected shape {want}, got {got}")
+        if not self.height_m > 0:
+            raise ValueError(f"Carrier.height_m must be > 0, got {self.height_m}")
 
     @property
     def torso_xy(self) -> NDArray[np.float64]:
         """(K, 2) the trunk's axis in plan, m."""
         return self.pos[:, :2]
 
-    def shadow_at(self, t: ArrayLike) -> tuple[NDArray[np.bool_], BodyShadow]:
-        """At times ``t`` (M,): which samples the body shades, and its pose at those.
+    def shadow_at(self, t: ArrayLike) -> tuple[NDArray[np.float64], BodyShadow]:
+        """At times ``t`` (M,): how much the body's shadow counts (M,), and the
+        body's pose at the samples where it counts at all (weight > 0).
 
-        Positions and yaw are interpolated linearly; a sample is shaded when the
-        nearest earlier carrier sample is.
+        Positions, yaw and weight are interpolated linearly.
         """
         tt = np.asarray(t, dtype=float)
-        k = np.clip(np.searchsorted(self.t, tt, side="right") - 1, 0, len(self.t) - 1)
-        mask = self.shades[k]
-        at = tt[mask]
+        weight = np.interp(tt, self.t, self.shades)
+        at = tt[weight > 0]
         pos = np.column_stack([np.interp(at, self.t, self.pos[:, i]) for i in range(3)])
-        return mask, silhouette(pos, np.interp(at, self.t, self.trunk_yaw), self.height_m)
+        return weight, silhouette(pos, np.interp(at, self.t, self.trunk_yaw), self.height_m)

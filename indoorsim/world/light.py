@@ -109,6 +109,15 @@ class PointSources:
         for name in ("face_u", "face_v"):
             if getattr(self, name) is None:
                 object.__setattr__(self, name, np.zeros((len(self.position), 3)))
+            elif getattr(self, name).shape != (len(self.position), 3):
+                raise ValueError(
+                    f"PointSources.{name}: expected shape {(len(self.position), 3)}, "
+                    f"got {getattr(self, name).shape}"
+                )
+        # The penumbra's shortcut needs the face's two half-extents at right angles.
+        dots = np.abs(np.sum(self.face_u * self.face_v, axis=1))
+        if np.any(dots > 1e-9 * (1.0 + np.sum(self.face_u**2 + self.face_v**2, axis=1))):
+            raise ValueError("PointSources: face_u and face_v must be perpendicular")
 
     def __len__(self) -> int:
         return len(self.position)
@@ -191,8 +200,8 @@ the share of the light falling on the body that it sends back toward the sensor.
 class BodyShadow:
     """The carrier's head and trunk as opaque solids, one pose per receiver.
 
-    The head is a sphere; the trunk an upright elliptic cylinder from the
-    floor to the shoulders, its short axis along the way the trunk faces.
+    The head is a sphere; the trunk an upright elliptic cylinder up to the
+    shoulders (and on down, for the legs), its short axis along the way the trunk faces.
     Sizes are anthropometric (:mod:`indoorsim.walker.carry` builds them from
     the walker's height); the arms and the hand are not modelled.
 
@@ -215,6 +224,11 @@ class BodyShadow:
     trunk_half_width_m: float
 
     def __post_init__(self) -> None:
+        for name in ("head", "trunk_xy", "trunk_yaw", "trunk_top"):
+            value = np.asarray(getattr(self, name), dtype=float)
+            if not np.isfinite(value).all():
+                raise ValueError(f"BodyShadow.{name}: every value must be finite")
+            object.__setattr__(self, name, value)
         n = len(self.head)
         shapes = {
             "head": (self.head.shape, (n, 3)),
@@ -272,8 +286,11 @@ class BodyShadow:
             raise ValueError(
                 f"points and normals must be ({len(self)}, 3), got {p.shape}, {n.shape}"
             )
+        length = np.linalg.norm(n, axis=1, keepdims=True)
+        if not (length > 1e-12).all():
+            raise ValueError("normals: every normal must be a non-zero vector")
         out = np.zeros(len(p))
-        _view_blocked(p, n, _VIEW_DISC, *self._kernel_args(), out)
+        _view_blocked(p, np.ascontiguousarray(n / length), _VIEW_DISC, *self._kernel_args(), out)
         return out
 
 
@@ -316,10 +333,14 @@ def _body_blocks(
     grow,
 ):  # pragma: no cover - compiled
     """True when the segment p→q passes through receiver i's head sphere or trunk
-    (an upright elliptic cylinder under ``top[i]``), each grown by ``grow`` m on
-    every side (which holds every point within ``grow`` of them)."""
-    head_r = head_r + grow
-    half_depth, half_width = half_depth + grow, half_width + grow
+    (an upright elliptic cylinder under ``top[i]``), each grown to hold every
+    point within ``grow`` m of it: the sphere's radius and the top by ``grow``,
+    the ellipse scaled by 1 + grow/(its smaller semi-axis) (adding ``grow`` to
+    both semi-axes would not hold the offset ellipse unless it were a circle)."""
+    if grow > 0.0:
+        head_r = head_r + grow
+        scale = 1.0 + grow / min(half_depth, half_width)
+        half_depth, half_width = scale * half_depth, scale * half_width
     dx, dy, dz = qx - px, qy - py, qz - pz
     length2 = dx * dx + dy * dy + dz * dz
     if length2 == 0.0:
@@ -476,8 +497,10 @@ def _face_in_view(
 
     When even the body grown by the face's half-diagonal leaves the sight line
     to the centre clear, every sight line to the face is clear (each stays
-    within that distance of it): 1 at once. Otherwise the face is sampled on
-    an even grid of cells at most :data:`FACE_STEP_M` on a side.
+    within that distance of it, ``face_u`` ⟂ ``face_v``): 1 at once. Otherwise
+    the face is sampled on an even grid of cells :data:`FACE_STEP_M` on a side
+    or less, up to ``_FACE_POINTS_MAX`` per side (wider cells on faces over
+    1.2 m). A count a rounding error past a whole number is not rounded up.
     """
     ux, uy, uz = face_u[s, 0], face_u[s, 1], face_u[s, 2]
     vx, vy, vz = face_v[s, 0], face_v[s, 1], face_v[s, 2]
@@ -506,8 +529,8 @@ def _face_in_view(
         return 1.0
     if reach == 0.0:
         return 0.0
-    nu = min(max(math.ceil(2.0 * lu / FACE_STEP_M), 1), _FACE_POINTS_MAX)
-    nv = min(max(math.ceil(2.0 * lv / FACE_STEP_M), 1), _FACE_POINTS_MAX)
+    nu = min(max(math.ceil(2.0 * lu / FACE_STEP_M - 1e-9), 1), _FACE_POINTS_MAX)
+    nv = min(max(math.ceil(2.0 * lv / FACE_STEP_M - 1e-9), 1), _FACE_POINTS_MAX)
     clear = 0
     for a in range(nu):
         fa = 2.0 * (a + 0.5) / nu - 1.0
@@ -558,8 +581,8 @@ def direct_illuminance(
         plan: occluding geometry; ``None`` for free space.
         body: the carrier's body at each receiver, which also occludes; ``None``
             for none. Its shadow is soft: the direct term is scaled by the share
-            of points spread over the source's face (:data:`FACE_STEP_M` apart)
-            whose sight lines the body leaves clear.
+            of points spread over the source's face (:data:`FACE_STEP_M` apart,
+            at most 12 a side) whose sight lines the body leaves clear.
         response_exponent: the receiver's angular response cosᵏψ (k = 1: a true
             cosine receiver, an illuminance meter; a phone's sensor behind its
             aperture is narrower,
@@ -1157,6 +1180,8 @@ class LightModel:
             response_exponent: the receiver's angular response cosᵏψ (1: an
                 illuminance meter). The direct term takes it exactly; the
                 ambient term, taken as diffuse, the share :func:`diffuse_response`.
+                (The body's share f stays cosine-weighted: for k ≈ 1.8 a cosᵏ
+                weighting would change the ambient term by about 3 %.)
 
         Raises:
             ValueError: for arrays of the wrong shape or a zero-length normal.

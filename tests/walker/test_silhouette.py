@@ -43,12 +43,14 @@ def test_the_carrier_interpolates_the_pose_and_keeps_each_samples_shading():
         pos=np.array([[0.0, 0.0, 0.9], [1.0, 0.0, 0.9], [2.0, 0.0, 0.9]]),
         trunk_yaw=np.array([0.0, 0.5, 1.0]),
         height_m=1.7,
-        shades=np.array([True, True, False]),
+        shades=np.array([1.0, 1.0, 0.0]),
     )
-    mask, body = carrier.shadow_at([0.5, 1.5, 2.0])
-    assert mask.tolist() == [True, True, False]
+    weight, body = carrier.shadow_at([0.5, 1.5, 2.0])
+    np.testing.assert_allclose(weight, [1.0, 0.5, 0.0])
     np.testing.assert_allclose(body.trunk_xy[:, 0], [0.5, 1.5])
     np.testing.assert_allclose(body.trunk_yaw, [0.25, 0.75])
+    with pytest.raises(ValueError, match="shades"):
+        Carrier(t=t, pos=carrier.pos, trunk_yaw=t, height_m=1.7, shades=np.ones(2))
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +58,7 @@ def corridor():
     return indoorsim.load_site("han2023_corridor")
 
 
-def _lux_with_and_without_the_body(site, mode: str) -> tuple[np.ndarray, np.ndarray]:
+def _lux_with_and_without_the_body(site, mode) -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(4)
     body = walk(site.plan, resolve_route(site, "trajectory"), WalkerParams(), rng, until_s=25.0)
     phone = carry(body, mode, np.random.default_rng(5))
@@ -80,3 +82,13 @@ def test_the_carriers_body_darkens_a_handheld_phone_and_leaves_a_phone_at_the_ea
     # At the ear the mode's exposure stands for the head: no second shadow.
     shaded, bare = _lux_with_and_without_the_body(corridor, "calling")
     np.testing.assert_array_equal(shaded, bare)
+
+
+def test_the_bodys_shadow_fades_out_as_the_phone_goes_to_the_ear(corridor):
+    # From the hand to the ear over 1.5 s: the shadow's weight falls with the blend,
+    # so the shaded/bare ratio leaves the hand's value and reaches 1 without a jump.
+    shaded, bare = _lux_with_and_without_the_body(corridor, [(0.0, "handheld"), (10.0, "calling")])
+    ratio = shaded / np.maximum(bare, 1e-9)
+    assert ratio[-1] == pytest.approx(1.0)
+    lit = bare > 5.0
+    assert np.max(np.abs(np.diff(ratio[lit]))) < 0.35

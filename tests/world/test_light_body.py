@@ -232,7 +232,7 @@ def test_the_ambient_term_reads_as_diffuse_light_through_a_narrow_receiver():
 
 
 def test_the_half_sensitivity_angle_gives_the_cosine_power():
-    assert cosine_power(60.0) == pytest.approx(1.0)
+    assert cosine_power(60.0) == 1.0  # exactly: the cosine path, bit for bit
     for half in (35.0, 47.5, 55.0):
         assert math.cos(math.radians(half)) ** cosine_power(half) == pytest.approx(0.5)
     assert LightSensorSpec().response_exponent == pytest.approx(1.0)
@@ -242,3 +242,30 @@ def test_the_half_sensitivity_angle_gives_the_cosine_power():
     with pytest.raises(ValueError, match="response_exponent"):
         up = np.array([[0.0, 0.0, 1.0]])
         direct_illuminance(PointSources.empty(), np.zeros((1, 3)), up, response_exponent=0.5)
+
+
+def test_bad_bodies_and_faces_are_clear_errors():
+    with pytest.raises(ValueError, match=r"head.*finite"):
+        _head_only([0.0, float("nan"), 1.6])
+    u = np.array([[0.3, 0.0, 0.0]])
+    with pytest.raises(ValueError, match="perpendicular"):
+        PointSources(
+            position=np.zeros((1, 3)),
+            axis=np.array([[0.0, 0.0, -1.0]]),
+            intensity_cd=np.ones(1),
+            exponent=np.ones(1),
+            face_u=u,
+            face_v=u,
+        )
+    with pytest.raises(ValueError, match="face_u"):
+        PointSources(
+            position=np.zeros((2, 3)),
+            axis=np.tile([0.0, 0.0, -1.0], (2, 1)),
+            intensity_cd=np.ones(2),
+            exponent=np.ones(2),
+            face_u=u,
+        )
+    # The view share takes any non-zero normal, normalised.
+    body = _head_only([0.0, 0.0, 0.0], radius=0.2)
+    p = np.array([[0.0, 0.0, -0.6]])
+    assert body.view_blocked(p, [[0.0, 0.0, 2.0]])[0] == body.view_blocked(p, [[0, 0, 1.0]])[0]
