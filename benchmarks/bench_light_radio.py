@@ -46,13 +46,8 @@ from numpy.typing import NDArray
 
 from indoorsim.scenario import Scenario, parse_scenario
 from indoorsim.walker.silhouette import silhouette
-from indoorsim.world.light import (
-    FACE_STEP_M,
-    BodyShadow,
-    LightModel,
-    PointSources,
-    direct_illuminance,
-)
+from indoorsim.world.body_shadow import FACE_STEP_M, BodyShadow
+from indoorsim.world.light import LightModel, PointSources, direct_illuminance
 from indoorsim.world.plan import FloorPlan
 from indoorsim.world.radio import RadioModel, free_space_loss_1m_db
 

@@ -53,7 +53,7 @@ from indoorsim.scenario.schema import GridSurveySpec, WalkSurveySpec
 from indoorsim.util.seeding import SURVEY, named_streams
 from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, WalkerParams
 from indoorsim.walker.silhouette import silhouette
-from indoorsim.world.light import BodyShadow
+from indoorsim.world.body_shadow import BodyShadow
 from indoorsim.world.site import Site
 
 # Child streams of a survey's SeedSequence, by name (append only).

@@ -22,7 +22,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO
-from indoorsim.world.light import BodyShadow
+from indoorsim.world.body_shadow import BodyShadow
 
 __all__ = [
     "HEAD_CENTRE_RATIO",

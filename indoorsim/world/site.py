@@ -18,7 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from indoorsim.scenario.schema import Scenario
-from indoorsim.world.light import BodyShadow, LightModel
+from indoorsim.world.body_shadow import BodyShadow
+from indoorsim.world.light import LightModel
 from indoorsim.world.magnetic import MagneticModel
 from indoorsim.world.plan import plan_for
 from indoorsim.world.radio import RadioModel

@@ -10,9 +10,8 @@ import numpy as np
 import pytest
 
 from indoorsim.phone.devices import LightSensorSpec, cosine_power, get_device
+from indoorsim.world.body_shadow import BODY_REFLECTANCE, BodyShadow
 from indoorsim.world.light import (
-    BODY_REFLECTANCE,
-    BodyShadow,
     LightModel,
     PointSources,
     diffuse_response,
