@@ -227,11 +227,53 @@ class LuminaireSpec(_Spec):
 
 
 class DaylightSpec(_Spec):
-    """Daylight through windows (off by default: the papers walked at night)."""
+    """Daylight through windows (off by default: the papers walked at night).
+
+    The sky outside is a CIE standard general sky (ISO 15469) whose brightness
+    follows the sun's altitude at ``time`` on ``site.date`` (IES daylight
+    availability), plus the sun itself under ``clear`` and ``intermediate``
+    skies; ``uniform`` is a sky and ground of one luminance E_v/π, the
+    textbook's uniform surroundings (for closed-form checks). See
+    :mod:`indoorsim.world.sky`.
+    """
 
     enabled: bool = False
-    exterior_vertical_lux: NonNegFloat = 10000.0
+    sky: Literal["overcast", "intermediate", "clear", "uniform"] = "overcast"
+    time: datetime.time = datetime.time(12, 0)
+    """Local clock time of the walk on ``site.date``."""
+    utc_offset_h: Annotated[float, Field(ge=-12, le=14)] | None = None
+    """The local clock's offset from UTC, h; ``None``: the site's longitude / 15, rounded."""
+    exterior_vertical_lux: NonNegFloat | None = None
+    """The ``uniform`` sky's illuminance on a vertical pane, lx (given for it alone:
+    the other skies derive theirs from the sun's altitude)."""
     transmittance: Annotated[float, Field(ge=0, le=1)] = 0.7
+    """Visible transmittance of the glazing at normal incidence."""
+    panes: Annotated[int, Field(ge=1, le=4)] = 2
+    """Panes of uncoated glass: how the transmittance falls at oblique incidence (Fresnel)."""
+    ground_reflectance: Annotated[float, Field(ge=0, lt=1)] = 0.2
+
+    @field_validator("time", mode="before")
+    @classmethod
+    def _quoted_time(cls, value: Any) -> Any:
+        # YAML 1.1 reads an unquoted 14:30 as the base-60 number 870, which
+        # pydantic would take for seconds after midnight (00:14:30).
+        if isinstance(value, int | float) and not isinstance(value, bool):
+            raise ValueError(
+                f"got the number {value}: quote the time ('14:30'), since YAML reads an "
+                "unquoted 14:30 as 870"
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _uniform_sky_only(self) -> DaylightSpec:
+        if self.sky == "uniform" and self.exterior_vertical_lux is None:
+            raise ValueError("the 'uniform' sky needs exterior_vertical_lux (lx on the pane)")
+        if self.sky != "uniform" and self.exterior_vertical_lux is not None:
+            raise ValueError(
+                f"exterior_vertical_lux applies to sky 'uniform' only; the "
+                f"{self.sky!r} sky takes its brightness from the sun's altitude"
+            )
+        return self
 
 
 class ReflectanceSpec(_Spec):

@@ -16,10 +16,14 @@ normal n̂, from three parts (DESIGN §4 "Light", REALISM §3):
   uniform within a room, weighted by the receiver's view of the upper and
   lower hemispheres.
 * **Daylight** (off by default: the papers walked at night; see
-  :func:`window_patches`): each window is a uniform Lambertian area source of
-  luminance L = τ·E_v/π, cut into small patches that are point sources
-  I(θ) = L·dA·cos θ about the inward window normal, evaluated by the same
-  direct-term kernel as the luminaires.
+  :mod:`indoorsim.world.sky`): each exterior window is cut into small patches
+  (:func:`window_patches`), each a point source whose intensity toward a
+  receiver is τ·F(θ)·L(û)·dA·cos θ: the luminance L of the CIE sky or the
+  ground seen through it along the sight line û, through glazing that passes
+  less at oblique incidence θ; the same direct-term kernel as the luminaires
+  evaluates it. The sunbeam through the windows has its own kernel
+  (:func:`~indoorsim.world.sky.sun_illuminance`), and each window's admitted
+  flux feeds the ambient term.
 * **The carrier's body** (REALISM §3.1, §3.5; see :class:`BodyShadow`): the
   head and trunk of the person holding the phone, per receiver, are opaque
   solids. A source's direct term is 0 when its sight line passes through
@@ -45,7 +49,7 @@ import numba
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
-from shapely.geometry import LineString, Point, Polygon
+from shapely.geometry import Point, Polygon
 
 from indoorsim.world.body_shadow import (
     BODY_REFLECTANCE,
@@ -54,9 +58,16 @@ from indoorsim.world.body_shadow import (
     face_in_view,
 )
 from indoorsim.world.plan import crosses_properly, near_walls
+from indoorsim.world.sky import (
+    SkyState,
+    WindowApertures,
+    glazing_transmission,
+    sky_luminance,
+    sun_illuminance,
+)
 
 if TYPE_CHECKING:
-    from indoorsim.scenario.schema import ReflectanceSpec, Scenario, WallSpec, WindowSpec
+    from indoorsim.scenario.schema import ReflectanceSpec, Scenario
     from indoorsim.world.plan import FloorPlan
 
 __all__ = [
@@ -65,6 +76,7 @@ __all__ = [
     "RoomAmbient",
     "diffuse_response",
     "direct_illuminance",
+    "window_flux_sources",
     "window_patches",
 ]
 
@@ -80,8 +92,6 @@ integral to about 1 % from one patch size away from the glass."""
 # A patch sits this far inside the surface of its wall, so that the window's own
 # wall (a centre line in the occlusion test) never stands between it and the room.
 _PATCH_INSET_M = 0.01
-# How far beyond the wall surface we probe to tell the building's inside from outside.
-_PROBE_M = 0.05
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -204,6 +214,8 @@ def direct_illuminance(
     plan: FloorPlan | None = None,
     body: BodyShadow | None = None,
     response_exponent: float = 1.0,
+    sky: SkyState | None = None,
+    sky_from: int | None = None,
 ) -> NDArray[np.float64]:
     """(N,) direct illuminance (lx) of point sources on receivers, with wall occlusion.
 
@@ -225,6 +237,10 @@ def direct_illuminance(
             aperture is narrower,
             :func:`~indoorsim.phone.devices.cosine_power`). Calibrated at
             normal incidence, so a source straight ahead reads the same.
+        sky: the daylight outside, with ``sky_from``: sources from that index
+            on are window patches (:func:`window_patches`), whose intensity is
+            scaled per sight line by the luminance of the sky or ground beyond
+            the patch and the glazing's fall-off at its incidence.
     """
     if not response_exponent >= 1.0:
         raise ValueError(f"response_exponent must be ≥ 1, got {response_exponent}")
@@ -261,9 +277,14 @@ def direct_illuminance(
         float(response_exponent),
         body is not None,
         body.kernel_args if body is not None else NO_BODY,
+        len(sources) if sky is None or sky_from is None else int(sky_from),
+        sky.kernel_args if sky is not None else _NO_SKY,
         out,
     )
     return out
+
+
+_NO_SKY = np.zeros(12)
 
 
 def diffuse_response(k: float) -> float:
@@ -384,6 +405,8 @@ def _direct(
     response,
     has_body,
     body,
+    sky_from,
+    sky,
     out,
 ):  # pragma: no cover - compiled
     """The sum of :func:`direct_illuminance`, each receiver's sources in order.
@@ -399,7 +422,10 @@ def _direct(
     ``has_body``, a source's term is scaled by the share of its face the
     receiver's body (the tuple :attr:`BodyShadow.kernel_args`) leaves in view
     (:func:`~indoorsim.world.body_shadow.face_in_view`). The receiver's
-    response is cos^``response`` ψ.
+    response is cos^``response`` ψ. Sources from ``sky_from`` on are window
+    patches: their term takes the luminance beyond them along the sight line
+    (:func:`~indoorsim.world.sky.sky_luminance` of ``sky``) and the glazing's
+    fall-off at the incidence θ on the pane.
     """
     d2_min = MIN_DISTANCE_M * MIN_DISTANCE_M
     nb = _DIRECTION_BINS
@@ -474,6 +500,9 @@ def _direct(
                 if response != 1.0:
                     cos_psi = cos_psi**response
                 e = i0[s] * (cos_theta if expo[s] == 1.0 else cos_theta ** expo[s]) * cos_psi / d2
+                if s >= sky_from:
+                    e *= sky_luminance(vx / d, vy / d, vz / d, sky)
+                    e *= glazing_transmission(cos_theta, sky[11])
                 out[i] += e * t * seen
 
 
@@ -640,51 +669,41 @@ class RoomAmbient:
 
 
 def window_patches(
-    scenario: Scenario, plan: FloorPlan, patch_m: float = DAYLIGHT_PATCH_M
+    windows: WindowApertures, transmittance: float, patch_m: float = DAYLIGHT_PATCH_M
 ) -> PointSources:
-    """Daylight sources: every exterior window cut into Lambertian patches.
+    """Daylight sources: every exterior window cut into patches of unit luminance.
 
-    A window is a uniform Lambertian emitter of luminance L = τ·E_v/π (τ the
-    glazing transmittance, E_v the exterior vertical illuminance on the pane;
-    uniform surroundings that put E_v on a plane have luminance E_v/π). A patch of area
-    dA radiates I(θ) = L·dA·cos θ about the inward normal, whose flux is
-    π·L·dA, so the patches of a window carry its full flux τ·E_v·A into the room.
+    A patch of area dA seen from a receiver has the luminance L(û) of the sky
+    or ground beyond it along the sight line û, through glazing of transmittance
+    τ·F(θ) (:mod:`indoorsim.world.sky`), so its intensity toward the receiver is
+    τ·F(θ)·L(û)·dA·cos θ about the inward normal. The patches carry
+    I0 = τ·dA; the direct-term kernel multiplies in F(θ)·L(û) per sight line.
     Patches are at most ``patch_m`` on a side and sit just inside the wall
     surface, so their own wall does not occlude them; other walls occlude as
     for luminaires.
 
-    "Inward" is the side of the wall that lies inside ``plan.outline``. A
-    window with the building on both sides (internal glazing) or on neither
-    has no daylight behind it and yields no patches.
-
     Args:
-        scenario: windows, walls and ``light.daylight``.
-        plan: the floor plan (for the outline).
+        windows: the exterior windows (:class:`~indoorsim.world.sky.WindowApertures`).
+        transmittance: τ, the glazing's at normal incidence.
         patch_m: largest patch side, m.
     """
-    daylight = scenario.light.daylight
-    luminance = daylight.transmittance * daylight.exterior_vertical_lux / math.pi
     groups = [PointSources.empty()]
-    for window in scenario.windows:
-        wall = _host_wall(window, scenario.walls)
-        p0, p1 = np.asarray(window.start, float), np.asarray(window.to, float)
+    for k in range(len(windows)):
+        p0, p1, inward = windows.start[k], windows.end[k], windows.inward[k]
         width = float(np.linalg.norm(p1 - p0))
         u = (p1 - p0) / width
-        inward = _inward_normal(plan.outline, (p0 + p1) / 2, u, wall.thickness)
-        if inward is None:
-            continue
-        height = window.head - window.sill
+        height = float(windows.head[k] - windows.sill[k])
         nu, nv = math.ceil(width / patch_m), math.ceil(height / patch_m)
         su = (np.arange(nu) + 0.5) * width / nu
-        sv = window.sill + (np.arange(nv) + 0.5) * height / nv
-        inset = wall.thickness / 2 + _PATCH_INSET_M
+        sv = windows.sill[k] + (np.arange(nv) + 0.5) * height / nv
+        inset = windows.half_thickness[k] + _PATCH_INSET_M
         xy = p0 + np.outer(su, u) + inset * inward
         position = np.column_stack([np.repeat(xy, nv, axis=0), np.tile(sv, nu)])
         groups.append(
             PointSources.from_arrays(
                 position,
                 np.broadcast_to([inward[0], inward[1], 0.0], position.shape),
-                luminance * (width / nu) * (height / nv),
+                transmittance * (width / nu) * (height / nv),
                 1.0,
                 size_m=(width / nu, height / nv),
                 along=(u[0], u[1], 0.0),
@@ -693,42 +712,39 @@ def window_patches(
     return PointSources.concat(*groups)
 
 
-def _host_wall(window: WindowSpec, walls: list[WallSpec]) -> WallSpec:
-    """The wall whose solid holds both ends of ``window`` (the scenario checks one exists)."""
-    for wall in walls:
-        line = LineString([wall.start, wall.to])
-        if all(
-            line.distance(Point(end)) <= wall.thickness / 2 + 1e-6
-            for end in (window.start, window.to)
-        ):
-            return wall
-    raise ValueError(f"window {window.start}→{window.to} does not lie on any wall")
-
-
-def _inward_normal(
-    outline: Polygon, mid: NDArray[np.float64], u: NDArray[np.float64], thickness: float
-) -> NDArray[np.float64] | None:
-    """The unit normal of a wall with direction ``u`` pointing into the building, if unique."""
-    normal = np.array([-u[1], u[0]])
-    probe = thickness / 2 + _PROBE_M
-    inside = [outline.contains(Point(*(mid + s * probe * normal))) for s in (1.0, -1.0)]
-    if inside == [True, False]:
-        return normal
-    if inside == [False, True]:
-        return -normal
-    return None
+def window_flux_sources(windows: WindowApertures, sky: SkyState) -> PointSources:
+    """One Lambertian stand-in per window carrying the flux its pane admits,
+    A·E_pane (:meth:`SkyState.pane_lux`), for the ambient term's flux balance."""
+    if len(windows) == 0:
+        return PointSources.empty()
+    flux = np.array(
+        [
+            float(np.linalg.norm(windows.end[k] - windows.start[k]))
+            * float(windows.head[k] - windows.sill[k])
+            * sky.pane_lux(np.array([-windows.inward[k, 0], -windows.inward[k, 1], 0.0]))
+            for k in range(len(windows))
+        ]
+    )
+    inset = windows.half_thickness + _PATCH_INSET_M
+    xy = (windows.start + windows.end) / 2 + inset[:, None] * windows.inward
+    position = np.column_stack([xy, (windows.sill + windows.head) / 2])
+    axis = np.column_stack([windows.inward, np.zeros(len(windows))])
+    return PointSources.from_arrays(position, axis, flux / math.pi, 1.0)
 
 
 class LightModel:
     """Illuminance on receivers in a building: direct light, inter-reflections, daylight.
 
     See the module docstring for the model. Daylight patches and luminaires
-    share one list of point sources and one direct-term kernel.
+    share one list of point sources and one direct-term kernel; the sunbeam
+    has its own (:func:`~indoorsim.world.sky.sun_illuminance`).
 
     Attributes:
         sources: luminaires first (``n_luminaires`` of them), then daylight
-            patches (none unless ``scenario.light.daylight.enabled``).
+            patches (none unless ``scenario.light.daylight.enabled`` in daytime).
         n_luminaires: how many of ``sources`` are luminaires.
+        sky: the daylight outside, or ``None`` when daylight is off.
+        windows: the exterior windows daylight comes through.
         ambient: the per-room inter-reflection term, or ``None`` when
             ``scenario.light.ambient`` is off.
         plan: the occluding geometry.
@@ -736,6 +752,7 @@ class LightModel:
 
     def __init__(self, scenario: Scenario, plan: FloorPlan):
         self.plan = plan
+        self.ceiling_height = scenario.site.ceiling_height
         lums = scenario.luminaires
         luminaires = PointSources.from_arrays(
             np.array([lum.position for lum in lums], dtype=float).reshape(-1, 3),
@@ -746,15 +763,24 @@ class LightModel:
             np.array([lum.along for lum in lums], dtype=float).reshape(-1, 3),
         )
         self.n_luminaires = len(luminaires)
-        if scenario.light.daylight.enabled:
-            self.sources = PointSources.concat(luminaires, window_patches(scenario, plan))
-        else:
-            self.sources = luminaires
+        self.sources = luminaires
+        self.sky: SkyState | None = None
+        self.windows = WindowApertures.of(scenario, plan.outline)
+        flux_sources = luminaires
+        daylight = scenario.light.daylight
+        if daylight.enabled:
+            self.sky = SkyState.from_spec(scenario.site, daylight)
+            if self.sky.daytime and len(self.windows):
+                patches = window_patches(self.windows, daylight.transmittance)
+                self.sources = PointSources.concat(luminaires, patches)
+                flux_sources = PointSources.concat(
+                    luminaires, window_flux_sources(self.windows, self.sky)
+                )
         self.ambient: RoomAmbient | None = None
         if scenario.light.ambient:
             self.ambient = RoomAmbient.from_sources(
                 plan.rooms,
-                self.sources,
+                flux_sources,
                 scenario.site.ceiling_height,
                 scenario.light.reflectance,
                 door_openings(scenario, plan.rooms),
@@ -788,7 +814,20 @@ class LightModel:
             ValueError: for arrays of the wrong shape or a zero-length normal.
         """
         p, n = _receivers(points, normals)
-        out = direct_illuminance(self.sources, p, n, self.plan, body, response_exponent)
+        out = direct_illuminance(
+            self.sources, p, n, self.plan, body, response_exponent, self.sky, self.n_luminaires
+        )
+        if self.sky is not None and self.sky.sun_normal_lux > 0.0:
+            out += sun_illuminance(
+                self.sky,
+                p,
+                n,
+                self.plan,
+                self.windows,
+                self.ceiling_height,
+                body,
+                response_exponent,
+            )
         if self.ambient is not None:
             ambient = self.ambient(p, n)
             if body is not None:
