@@ -49,7 +49,7 @@ from indoorsim.walker.silhouette import silhouette
 from indoorsim.world.body_shadow import FACE_STEP_M, BodyShadow
 from indoorsim.world.light import LightModel, PointSources, direct_illuminance
 from indoorsim.world.plan import FloorPlan
-from indoorsim.world.radio import RadioModel, free_space_loss_1m_db
+from indoorsim.world.radio import MultipathField, RadioModel, free_space_loss_1m_db
 
 LENGTH, DEPTH, HEIGHT = 60.0, 18.0, 3.0
 CORRIDOR = (7.5, 10.5)  # y of the corridor's two fronts
@@ -187,6 +187,23 @@ def reference_illuminance(
         e = np.where(cos_theta > 0, i0 * cos_theta**n, 0.0) * cos_psi / d**2
         out[s : s + 20_000] = (e * transmittance[s : s + 20_000]).sum(1)
     return out
+
+
+def reference_multipath(
+    field: MultipathField,
+    points: NDArray[np.float64],
+    ap: NDArray[np.float64],
+    obstruction_db: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """The band-averaged fade written out over (points × paths × frequencies), dB."""
+    k = field.k_factor * 10 ** (-obstruction_db / 10)
+    phase = field.wavenumber * np.einsum("nk,mk->nm", points, field.directions) + field.phases
+    waves = np.exp(1j * phase)[:, :, None] * field.band[None, :, :]  # (N, M, F)
+    direct = np.exp(1j * field.wavenumber * np.linalg.norm(points - ap, axis=1))
+    h = np.sqrt(k / (k + 1))[:, None] * direct[:, None] + np.sqrt(1 / (k + 1))[:, None] * waves.sum(
+        axis=1
+    )
+    return 10 * np.log10(np.mean(np.abs(h) ** 2, axis=1))
 
 
 def reference_rss(
@@ -374,6 +391,27 @@ def main() -> None:
         f"({t_walls / t_radio:.0%}) is in plan.crossing_loss_db"
     )
     print(f"  values     median {np.median(rss):.1f} dBm, range {rss.min():.1f} to {rss.max():.1f}")
+
+    # The multipath fade a phone adds at its exact spot (radio.multipath).
+    faded, t_faded = best_of(lambda: radio.rss(points, small_scale=True), args.repeat)
+    field, ap = radio.multipath[0], radio.positions[0]
+    walls = plan.crossing_loss_db(points, ap[None], float(radio.frequency_ghz[0]))
+    one, t_one = best_of(lambda: field.fading_db(points, ap, walls), args.repeat)
+    one_ref, t_one_ref = best_of(lambda: reference_multipath(field, points, ap, walls), 1)
+    np.testing.assert_allclose(one, one_ref, rtol=1e-9, atol=1e-9)
+    terms = n * len(field.phases) * field.band.shape[1]
+    fade = faded - rss
+    print(
+        f"\nmultipath fade ({len(field.phases)} paths × {field.band.shape[1]} frequencies; "
+        "agrees with the reference to 1e-9)"
+    )
+    print(f"  model      {t_one:.4f} s for one AP, {terms / t_one:.3g} path-frequency terms/s")
+    print(f"  reference  {t_one_ref:.4f} s, {terms / t_one_ref:.3g} terms/s")
+    print(f"  ratio      reference time / model time = {t_one_ref / t_one:.1f}")
+    print(
+        f"  rss        small_scale=True {t_faded:.3f} s against {t_radio:.3f} s without "
+        f"({t_faded / t_radio:.2f}x); fade median {np.median(fade):.2f} dB, std {np.std(fade):.2f}"
+    )
 
 
 if __name__ == "__main__":

@@ -254,8 +254,11 @@ def sample_sensors(
     t_scan = t_scan[t_scan <= phone.t[-1]]
     # A scan sweeps the channels over its duration: take the phone where it was mid-scan.
     t_mid = np.clip(t_scan - device.wifi.scan_duration_s / 2, t0, phone.t[-1])
+    # What the phone receives where it is: the local mean and that spot's multipath fade.
     rss_mean = (
-        site.rss(imu.position(t_mid)) if len(t_scan) else np.zeros((0, len(site.radio.bssids)))
+        site.rss(imu.position(t_mid), small_scale=True)
+        if len(t_scan)
+        else np.zeros((0, len(site.radio.bssids)))
     )
     if phone.torso_xy is not None and len(t_scan):
         # The carrier's trunk shadows the APs behind it (REALISM §4.3).

@@ -142,7 +142,9 @@ def grid_survey(
         _surveyor_body(pts, facing),
         profile.light.response_exponent,
     )
-    rss_true = site.rss(where) - site.radio.body_shadow_db(where, _surveyor(pts, facing))
+    rss_true = site.rss(where, small_scale=True) - site.radio.body_shadow_db(
+        where, _surveyor(pts, facing)
+    )
     rows = []
     for k in range(len(pts)):
         t = sample_times(spec.duration_s, spec.rate_hz, profile.timestamp_jitter_frac, noise)
@@ -333,7 +335,9 @@ def walk_survey(
     ahead = np.diff(markers, axis=0)
     ahead = np.vstack([ahead, ahead[-1:]]) if len(ahead) else np.array([[1.0, 0.0]])
     facing = ahead / np.maximum(np.linalg.norm(ahead, axis=1, keepdims=True), 1e-9)
-    rss_true = site.rss(where) - site.radio.body_shadow_db(where, _surveyor(markers, facing))
+    rss_true = site.rss(where, small_scale=True) - site.radio.body_shadow_db(
+        where, _surveyor(markers, facing)
+    )
     rows = []
     for k, point in enumerate(markers):
         n_scans, rss = _static_wifi(site, rss_true[k], spec.wifi_dwell_s, profile, rngs)

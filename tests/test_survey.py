@@ -61,7 +61,8 @@ def test_ideal_grid_survey_measures_the_field_in_the_phones_geographic_frame(bas
     np.testing.assert_allclose(grid["lux"], lux, rtol=0.06)  # the hand tilts ~1°
     up = np.tile([0.0, 0.0, 1.0], (len(xyz), 1))
     assert (lux < 0.9 * basement.illuminance(xyz, up)).any()  # a luminaire behind the head
-    rss = basement.rss(xyz) - basement.radio.body_shadow_db(xyz, trunk)
+    # The ideal phone reads the local mean plus the multipath fade of its spot.
+    rss = basement.rss(xyz, small_scale=True) - basement.radio.body_shadow_db(xyz, trunk)
     assert basement.radio.body_shadow_db(xyz, trunk).max() > 0
     for k, b in enumerate(basement.radio.bssids):
         np.testing.assert_allclose(grid[f"rss_{b}"], rss[:, k], atol=1e-9)
@@ -111,6 +112,6 @@ def test_walk_survey_labels_from_markers_and_wifi_at_reference_points(lab):
     ahead = np.diff(xyz[:, :2], axis=0)
     ahead = np.vstack([ahead, ahead[-1:]])
     trunk = xyz[:, :2] - SURVEY_HOLD_M * ahead / np.linalg.norm(ahead, axis=1, keepdims=True)
-    rss = lab.rss(xyz) - lab.radio.body_shadow_db(xyz, trunk)
+    rss = lab.rss(xyz, small_scale=True) - lab.radio.body_shadow_db(xyz, trunk)
     for k, b in enumerate(lab.radio.bssids):
         np.testing.assert_allclose(wifi[f"rss_{b}"], rss[:, k], atol=1e-9)

@@ -264,21 +264,30 @@ class LightSensorSpec:
 class WifiSpec:
     """WiFi scanning of an app in the foreground.
 
-    The app asks for a scan every ``scan_interval_s``; with ``throttling``
-    (Android 9+ default) a foreground app gets at most 4 scans per 2 minutes and
-    further requests are refused. A scan's results arrive ``scan_duration_s``
-    (± ``scan_duration_spread_s``, uniform) after its request. Each reported
-    RSS is the mean RSS plus Gaussian per-scan fading in dB, quantised, and
-    dropped below the detection threshold
+    The app asks for a scan every ``scan_interval_s``, or, ``continuous``, as
+    soon as the previous scan's results arrive (what logging apps do); with
+    ``throttling`` (Android 9+ default) a foreground app gets at most 4 scans
+    per 2 minutes and further requests are refused. A scan's results arrive
+    ``scan_duration_s`` (± ``scan_duration_spread_s``, uniform) after its
+    request. Each reported RSS is the received power at the phone (the site's
+    mean and multipath fade, ``Site.rss(small_scale=True)``) plus the reading's
+    own variation, Gaussian in dB, quantised; an AP's beacon is missed with
+    ``miss_probability``, and readings below the detection threshold are dropped
     (:func:`indoorsim.phone.sensors.wifi_scans`, :func:`~indoorsim.phone.sensors.scan_rss`).
 
     Attributes:
-        scan_interval_s: time between the app's scan requests, s.
+        scan_interval_s: time between the app's scan requests, s (``continuous``:
+            the wait before retrying a refused request).
         scan_duration_s: mean time from request to results (a full dual-band scan), s.
         scan_duration_spread_s: half-width of the uniform spread of the duration, s.
         throttling: Android 9+ foreground scan throttling (4 scans per 120 s) is on.
+        continuous: the app requests the next scan when the last one's results arrive.
         detection_threshold_dbm: weakest RSS reported, dBm (``-inf``: every AP heard).
-        fading_sigma_db: 1σ of the per-scan fading, dB.
+        fading_sigma_db: 1σ of a still phone's readings of one AP from scan to scan,
+            dB: people moving, the RSSI estimate's own error (the multipath fade of
+            the place itself is the site's, not this).
+        miss_probability: chance that a scan misses an AP it would hear (its beacon
+            or probe response lost), independently per scan and AP.
         quantisation_db: RSS reporting step, dB (Android reports whole dBm: 1; 0: exact).
     """
 
@@ -286,8 +295,10 @@ class WifiSpec:
     scan_duration_s: float = 0.0
     scan_duration_spread_s: float = 0.0
     throttling: bool = False
+    continuous: bool = False
     detection_threshold_dbm: float = -math.inf
     fading_sigma_db: float = 0.0
+    miss_probability: float = 0.0
     quantisation_db: float = 0.0
 
     def __post_init__(self) -> None:
@@ -301,10 +312,17 @@ class WifiSpec:
             ),
             positive=("scan_interval_s",),
         )
+        if not 0.0 <= self.miss_probability < 1.0:
+            raise ValueError(
+                f"WifiSpec.miss_probability must be in [0, 1), got {self.miss_probability}"
+            )
         if self.scan_duration_spread_s > self.scan_duration_s:
             raise ValueError("WifiSpec.scan_duration_spread_s must not exceed scan_duration_s")
         # A scan must end before the app's next request, so results stay in order.
-        if self.scan_duration_s + self.scan_duration_spread_s > self.scan_interval_s:
+        if (
+            not self.continuous
+            and self.scan_duration_s + self.scan_duration_spread_s > self.scan_interval_s
+        ):
             raise ValueError(
                 "WifiSpec: scan_duration_s + scan_duration_spread_s must not exceed "
                 f"scan_interval_s ({self.scan_duration_s} + {self.scan_duration_spread_s} "
@@ -378,6 +396,15 @@ _IDEAL = DeviceProfile(
     sources=("all figures: zero by definition",),
 )
 
+_UJI_WIFI_SOURCE = (
+    "wifi.fading_sigma_db and miss_probability from the UJI library sets (a Galaxy S3 "
+    "standing still, 6 scans a visit; indoorsim.benchmark.realism.radio, real_radio.csv): "
+    "one AP's readings within a visit vary by 1.5–1.8 dB (median sample std, whole dBm), "
+    "σ ≈ 1.7 dB once the 1 dB steps are taken out; APs a visit hears at −80…−55 dBm are "
+    "missing from 0.2–6.1 % of its scans (4 % taken) [D]. Profiles with other figures keep "
+    "them as the spread of phones [E]"
+)
+
 # The 16-bit full scales phones commonly configure (REALISM §1.4 [E]): ±8 g, ±2000 °/s.
 _ACCEL_8G = 8 * STANDARD_GRAVITY
 _GYRO_2000DPS = 2000 * DEG
@@ -439,12 +466,14 @@ _VIVO_S9 = DeviceProfile(
         scan_duration_spread_s=1.0,
         throttling=True,
         detection_threshold_dbm=-95.0,
-        fading_sigma_db=2.0,
+        fading_sigma_db=1.7,
+        miss_probability=0.04,
         quantisation_db=1.0,
     ),
     timestamp_jitter_frac=0.015,
     gap_probability=5e-4,
     sources=(
+        _UJI_WIFI_SOURCE,
         "accel.rate_hz, gyro.rate_hz, mag.rate_hz = 50 Hz: Han2023 §4.2 'The data collection "
         "frequency was set to 50 Hz' (survey), §4.5 the walks use 'the same data acquisition "
         "equipment, software, relevant parameter settings' [S]",
@@ -472,8 +501,8 @@ _VIVO_S9 = DeviceProfile(
         "Han2023 does not use WiFi",
         "wifi.scan_interval_s 5 (the app's request rate), scan_duration 3 ± 1 s: full "
         "dual-band scan 2–4 s (REALISM §4.3) [E]",
-        "wifi.detection_threshold_dbm −95, fading_sigma_db 2: REALISM §4.3 (−90…−95 dBm; "
-        "static σ 1–4 dB) [E]; quantisation 1 dB: ScanResult.level is an integer [S]",
+        "wifi.detection_threshold_dbm −95: REALISM §4.3 (−90…−95 dBm) [E]; "
+        "quantisation 1 dB: ScanResult.level is an integer [S]",
         "timestamp_jitter_frac 1.5 %, gap_probability 5e-4: REALISM §1.3 (1–3 %, rare gaps) [E]",
     ),
 )
@@ -534,17 +563,19 @@ _NEXUS_5X = DeviceProfile(
         scan_duration_spread_s=1.0,
         throttling=False,
         detection_threshold_dbm=-95.0,
-        fading_sigma_db=2.0,
+        fading_sigma_db=1.7,
+        miss_probability=0.04,
         quantisation_db=1.0,
     ),
     timestamp_jitter_frac=0.02,
     gap_probability=1e-3,
     sources=(
+        _UJI_WIFI_SOURCE,
         "wifi.scan_interval_s 5 (0.2 Hz): Chen2022 'WiFi fingerprint' (offline phase): "
         "'low WiFi RSS update rates, such as 0.2 Hz for Nexus 5X' [S]",
         "wifi.throttling off: Android ≤ 8.1 has no foreground scan throttling (REALISM §4.3) [S]",
         "wifi.scan_duration 3 ± 1 s: full dual-band scan 2–4 s (REALISM §4.3) [E]",
-        "wifi.detection_threshold_dbm −95, fading_sigma_db 2: REALISM §4.3 [E]; "
+        "wifi.detection_threshold_dbm −95: REALISM §4.3 [E]; "
         "quantisation 1 dB: ScanResult.level is an integer [S]",
         "accel/gyro/mag rate 50 Hz: Chen2022 states no IMU rate; SENSOR_DELAY_GAME assumed [E]",
         "IMU chip: Bosch BMI160 (as commonly listed for this phone) [E]",
@@ -630,19 +661,21 @@ _HONOR_50 = DeviceProfile(
         scan_duration_spread_s=1.0,
         throttling=False,
         detection_threshold_dbm=-95.0,
-        fading_sigma_db=2.0,
+        fading_sigma_db=1.7,
+        miss_probability=0.04,
         quantisation_db=1.0,
     ),
     timestamp_jitter_frac=0.015,
     gap_probability=5e-4,
     sources=(
+        _UJI_WIFI_SOURCE,
         "rates 50 Hz: Chen2022 states none for the survey; SENSOR_DELAY_GAME assumed [E]",
         "wifi.throttling off: Android 11 throttles by default (4 scans / 2 min, REALISM §4.3 [S]), "
         "far too few for a walk survey; the team is assumed to have switched the 'Wi-Fi scan "
         "throttling' developer option off (Android 10+) [E]",
         "wifi.scan_interval_s 5: Chen2022's 0.2 Hz figure for Android phones [S]; "
         "scan_duration 3 ± 1 s (REALISM §4.3) [E]",
-        "wifi.detection_threshold_dbm −95, fading_sigma_db 2: REALISM §4.3 [E]; "
+        "wifi.detection_threshold_dbm −95: REALISM §4.3 [E]; "
         "quantisation 1 dB: ScanResult.level is an integer [S]",
         "IMU chip: unpublished; LSM6DSO / ICM-42605 class assumed [E]",
         "accel.noise_density 90 µg/√Hz: 70 µg/√Hz parts (REALISM §1.1) in a phone [E]",
@@ -716,11 +749,13 @@ _LOW_GRADE = DeviceProfile(
         throttling=True,
         detection_threshold_dbm=-90.0,
         fading_sigma_db=3.0,
+        miss_probability=0.04,
         quantisation_db=1.0,
     ),
     timestamp_jitter_frac=0.03,
     gap_probability=2e-3,
     sources=(
+        _UJI_WIFI_SOURCE,
         "rates: CDD MUST ≥ 50 Hz accel/gyro, ≥ 10 Hz mag (REALISM §1.2) [S], 50 Hz chosen",
         "accel range ±4 g: CDD minimum [S]; gyro range ±1000 °/s: CDD minimum [S]; 16-bit "
         "over ±8 g / ±2000 °/s (chip setting, REALISM §1.4) [E]",
@@ -794,12 +829,14 @@ _MID_GRADE = DeviceProfile(
         scan_duration_spread_s=0.5,
         throttling=True,
         detection_threshold_dbm=-93.0,
-        fading_sigma_db=2.0,
+        fading_sigma_db=1.7,
+        miss_probability=0.04,
         quantisation_db=1.0,
     ),
     timestamp_jitter_frac=0.02,
     gap_probability=5e-4,
     sources=(
+        _UJI_WIFI_SOURCE,
         "accel: noise 150 µg/√Hz, turn-on 4 mg (calibrated), scale 0.5 %, misalignment 0.5° "
         "(REALISM §1.4 suggested draws) [E]; bias instability 50 µg, T_c 100 s, random "
         "walk 2e-5 m/s²/√s [E]",
@@ -871,11 +908,13 @@ _HIGH_GRADE = DeviceProfile(
         throttling=False,
         detection_threshold_dbm=-95.0,
         fading_sigma_db=1.5,
+        miss_probability=0.04,
         quantisation_db=1.0,
     ),
     timestamp_jitter_frac=0.01,
     gap_probability=1e-4,
     sources=(
+        _UJI_WIFI_SOURCE,
         "accel.noise_density 60 µg/√Hz, gyro 2.8 mdps/√Hz: LSM6DSV (REALISM §1.1) [S]",
         "rate 200 Hz: CDD SHOULD (REALISM §1.2) [S]; hifi timestamps within 2.5 ms [S]",
         "turn-on 2 mg / 0.05 °/s, bias instability 20 µg / 3 °/h (T_c 200 s), random walk "

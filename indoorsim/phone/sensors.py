@@ -556,7 +556,9 @@ def wifi_scans(
 ) -> NDArray[np.float64]:
     """Times at which scan results arrive during ``[start, start + duration_s)``, s.
 
-    The app requests a scan every ``scan_interval_s`` from ``start``. With
+    The app requests a scan every ``scan_interval_s`` from ``start`` or, with
+    ``continuous``, at ``start`` and then whenever a scan's results arrive
+    (retrying a refused request ``scan_interval_s`` later). With
     ``throttling`` a request is refused when the app already started
     ``THROTTLE_MAX_SCANS`` (4) scans in the last ``THROTTLE_WINDOW_S`` (120 s) —
     Android 9+'s rule for a foreground app, a sliding window over accepted
@@ -576,6 +578,8 @@ def wifi_scans(
     """
     if not duration_s >= 0:
         raise ValueError(f"duration_s must be >= 0, got {duration_s}")
+    if spec.continuous:
+        return _continuous_scans(duration_s, spec, rng, start)
     n = max(0, math.ceil(duration_s / spec.scan_interval_s - 1e-9))
     requests = start + spec.scan_interval_s * np.arange(n)
     if spec.throttling:
@@ -583,6 +587,32 @@ def wifi_scans(
     spread = spec.scan_duration_spread_s * rng.uniform(-1.0, 1.0, requests.size)
     done = requests + (spec.scan_duration_s + spread)
     return done[done < start + duration_s]
+
+
+def _continuous_scans(
+    duration_s: float, spec: WifiSpec, rng: np.random.Generator, start: float
+) -> NDArray[np.float64]:
+    """Result times of an app that requests each scan as the last one's results arrive."""
+    end = start + duration_s
+    accepted: list[float] = []
+    done: list[float] = []
+    request = start
+    while request < end:
+        throttled = (
+            spec.throttling
+            and len(accepted) >= THROTTLE_MAX_SCANS
+            and request - accepted[-THROTTLE_MAX_SCANS] <= THROTTLE_WINDOW_S
+        )
+        if throttled:
+            request += spec.scan_interval_s
+            continue
+        accepted.append(request)
+        spread = spec.scan_duration_spread_s * rng.uniform(-1.0, 1.0)
+        # A scan takes some time even where the profile gives none, so time moves on.
+        request += max(spec.scan_duration_s + spread, 1e-3)
+        done.append(request)
+    out = np.array(done, dtype=np.float64)
+    return out[out < end]
 
 
 def _throttle(requests: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -607,14 +637,16 @@ def scan_rss(
     """The scan results a phone reports, one row per AP heard per scan.
 
     For scan s and AP a: r = Q(μ[s, a] + σ·ξ[s, a]), reported when r ≥ the
-    detection threshold.
+    detection threshold and the AP's beacon was not missed.
 
-    * μ: mean RSS at the phone's position during the scan (path loss, walls and
-      the site's fixed shadowing; ``Site.rss``), dBm. NaN or −inf: not heard.
-    * σ·ξ: per-scan fading, Gaussian in dB (log-normal in power),
-      σ = ``fading_sigma_db``, independent between scans and APs — it lumps
-      small-scale fading and temporal variation, which decorrelate within
-      centimetres and well within one scan interval.
+    * μ: received power at the phone's position during the scan (path loss,
+      walls, the site's fixed shadowing and, from ``Site.rss(small_scale=True)``,
+      the multipath fade of that exact spot), dBm. NaN or −inf: not heard.
+    * σ·ξ: the reading's variation from scan to scan, Gaussian in dB,
+      σ = ``fading_sigma_db``, independent between scans and APs: what a still
+      phone sees as people move and the RSSI estimate wanders.
+    * a miss: with ``miss_probability``, independently per scan and AP, the AP
+      is left out of the scan (a lost beacon or probe response).
     * Q: rounding to multiples of ``quantisation_db`` (1 dB: whole dBm, as
       ``ScanResult.level``). The threshold applies to the reported value, so
       every reported RSS is ≥ ``detection_threshold_dbm``.
@@ -645,6 +677,8 @@ def scan_rss(
     if spec.quantisation_db > 0:
         rss = spec.quantisation_db * np.round(rss / spec.quantisation_db)
     heard = np.isfinite(rss) & (rss >= spec.detection_threshold_dbm)
+    if spec.miss_probability > 0:
+        heard &= rng.random(rss.shape) >= spec.miss_probability
     scan_index, ap_index = np.nonzero(heard)
     return pd.DataFrame(
         {

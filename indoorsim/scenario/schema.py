@@ -368,8 +368,35 @@ class WifiApSpec(_Spec):
         return v
 
 
+class MultipathSpec(_Spec):
+    """Small-scale fading: the multipath field a phone samples at its exact position.
+
+    Each AP's field is a sum of ``paths`` plane waves from isotropic directions
+    with excess delays of an exponential power-delay profile (rms
+    ``delay_spread_ns``), plus the direct wave; a scan reads the power averaged
+    over the channel's ``bandwidth_mhz`` (what an RSSI over a 20 MHz channel
+    measures). The direct wave carries K times the scattered power: K drawn per
+    AP, log-normal about ``rician_k_db``, divided by the loss of the walls and
+    slabs the direct path crosses (a wall weakens the direct wave, not the
+    scattered field). It decorrelates within half a wavelength (6 cm at 2.4 GHz):
+    a still phone reads one fade scan after scan, a walking phone a new fade
+    each scan, a phone put back on the same marker another.
+    """
+
+    enabled: bool = True
+    paths: Annotated[int, Field(ge=4, le=256)] = 24
+    delay_spread_ns: PositiveFloat = 40.0
+    """rms delay spread: 3GPP TR 38.901 InH-office 20 ns LOS, 48 ns NLOS at 2.4 GHz [S/D]."""
+    rician_k_db: float = 7.0
+    """Mean K-factor of an unobstructed link, dB: 3GPP TR 38.901 InH LOS, μ_K = 7 dB [S]."""
+    rician_k_sigma_db: NonNegFloat = 4.0
+    """Spread of K between APs, dB: 3GPP TR 38.901 InH LOS, σ_K = 4 dB [S]."""
+    bandwidth_mhz: Annotated[float, Field(gt=0, le=160)] = 20.0
+    """Channel over which the RSSI is measured (a 20 MHz WiFi channel)."""
+
+
 class RadioSpec(_Spec):
-    """Propagation model: log-distance path loss + multi-wall loss + shadowing."""
+    """Propagation model: log-distance path loss + multi-wall loss + shadowing + multipath."""
 
     path_loss_exponent: Annotated[float, Field(ge=1.0, le=6.0)] = 2.0
     system_loss_db: NonNegFloat = 10.0
@@ -392,6 +419,7 @@ class RadioSpec(_Spec):
     body_loss_db: NonNegFloat = 6.0
     """Loss when the carrier's body stands between the phone and an AP: 3–10 dB
     (REALISM §4.3 [E]); the middle taken."""
+    multipath: MultipathSpec = MultipathSpec()
 
 
 class RouteSpec(_Spec):

@@ -34,9 +34,14 @@ the simulator subtracts it from the mean at each scan.
   and site so that a survey and a later walk see the same value at the same
   place (see :class:`ShadowingField`).
 
-Per-scan fading, the detection threshold and the 1 dB quantisation belong to
-the phone (``indoorsim.phone.sensors.scan_rss`` with the device's ``WifiSpec``);
-this module gives the mean.
+Small-scale fading (``radio.multipath``, :class:`MultipathField`) is the
+multipath interference at the phone's exact position: :meth:`RadioModel.rss`
+adds it with ``small_scale=True``, which is what a phone samples; without it
+the result is the local mean a survey map or a plot wants.
+
+The temporal variation of a still phone's readings, the detection threshold,
+missed beacons and the 1 dB quantisation belong to the phone
+(``indoorsim.phone.sensors.scan_rss`` with the device's ``WifiSpec``).
 """
 
 from __future__ import annotations
@@ -59,10 +64,12 @@ if TYPE_CHECKING:
     from indoorsim.world.plan import FloorPlan
 
 __all__ = [
+    "MultipathField",
     "RadioModel",
     "ShadowingField",
     "floor_loss_db",
     "free_space_loss_1m_db",
+    "multipath_rng",
     "shadowing_rng",
     "storey_bssid",
 ]
@@ -78,6 +85,7 @@ GRID_MARGIN_M = 1.0
 # Tags the shadowing streams so they never coincide with another model's
 # streams spawned from the same scenario seed.
 _SHADOWING_STREAM = zlib.crc32(b"indoorsim.radio.shadowing")
+_MULTIPATH_STREAM = zlib.crc32(b"indoorsim.radio.multipath")
 # Circulant embeddings larger than this many cells are refused (~0.5 GB of work arrays).
 _MAX_EMBEDDING_CELLS = 1 << 24
 
@@ -129,6 +137,95 @@ def shadowing_rng(seed: int, bssid: str) -> np.random.Generator:
     """
     key = zlib.crc32(bssid.lower().encode("ascii"))
     return generator(seed, (_SHADOWING_STREAM, key))
+
+
+def multipath_rng(seed: int, bssid: str) -> np.random.Generator:
+    """The generator of one AP's multipath field, keyed like :func:`shadowing_rng`."""
+    key = zlib.crc32(bssid.lower().encode("ascii"))
+    return generator(seed, (_MULTIPATH_STREAM, key))
+
+
+MULTIPATH_FREQUENCIES = 8
+"""Frequencies across the channel at which the band-averaged power is sampled:
+spaced 20/7 ≈ 2.9 MHz, below the coherence bandwidth 1/(2π·στ) ≈ 4 MHz at
+40 ns, so the average resolves the band's frequency diversity."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class MultipathField:
+    """One AP's small-scale fading: a sum-of-sinusoids channel (Clarke's model
+    with delays), fixed in space so that the same spot reads the same fade.
+
+    The complex gain at point p and frequency offset Δf_i in the channel is
+
+        h_i(p) = √(K/(K+1))·exp(j·k0·|p − p_ap|)
+               + √(1/(K+1))·(1/√M)·Σ_m exp(j(k0·u_m·p + φ_m − 2π·Δf_i·τ_m))
+
+    with M plane waves from directions u_m uniform on the sphere (isotropic
+    scattering: the field's correlation is sinc(k0·Δ), first zero at λ/2),
+    phases φ_m uniform and excess delays τ_m exponential with mean στ (an
+    exponential power-delay profile of rms spread στ). The reading is the
+    band-averaged power mean_i |h_i|², mean 1 over places, in dB. K is the
+    direct wave's share: the AP's own K-factor divided by the loss of what the
+    direct path crosses.
+
+    Attributes:
+        wavenumber: k0 = 2π·f/c, rad/m.
+        directions: (M, 3) unit arrival directions.
+        phases: (M,) phases φ_m, rad.
+        band: (M, F) exp(−j·2π·Δf_i·τ_m)/√M.
+        k_factor: the AP's K-factor of an unobstructed link (linear).
+    """
+
+    wavenumber: float
+    directions: NDArray[np.float64]
+    phases: NDArray[np.float64]
+    band: NDArray[np.complex128]
+    k_factor: float
+
+    @classmethod
+    def sample(
+        cls,
+        rng: np.random.Generator,
+        frequency_ghz: float,
+        *,
+        paths: int,
+        delay_spread_ns: float,
+        rician_k_db: float,
+        rician_k_sigma_db: float,
+        bandwidth_mhz: float,
+    ) -> MultipathField:
+        """One AP's field, drawn from ``rng`` (:func:`multipath_rng`)."""
+        z = rng.standard_normal((paths, 3))
+        directions = z / np.linalg.norm(z, axis=1, keepdims=True)
+        phases = rng.uniform(0.0, 2 * np.pi, paths)
+        delays = rng.exponential(delay_spread_ns * 1e-9, paths)
+        k_db = rician_k_db + rician_k_sigma_db * rng.standard_normal()
+        offsets = bandwidth_mhz * 1e6 * (np.linspace(0.0, 1.0, MULTIPATH_FREQUENCIES) - 0.5)
+        band = np.exp(-2j * np.pi * np.outer(delays, offsets)) / math.sqrt(paths)
+        return cls(
+            wavenumber=2 * np.pi * frequency_ghz * 1e9 / SPEED_OF_LIGHT_M_S,
+            directions=directions,
+            phases=phases,
+            band=band,
+            k_factor=10 ** (k_db / 10),
+        )
+
+    def fading_db(
+        self,
+        points: NDArray[np.float64],
+        ap: NDArray[np.float64],
+        obstruction_db: NDArray[np.float64],
+    ) -> NDArray[np.float64]:
+        """(N,) fade in dB at (N, 3) points, the direct path weakened by ``obstruction_db`` (N,)."""
+        k = self.k_factor * 10 ** (-np.asarray(obstruction_db, dtype=float) / 10)
+        scattered = np.exp(1j * (self.wavenumber * (points @ self.directions.T) + self.phases))
+        direct = np.exp(1j * self.wavenumber * np.linalg.norm(points - ap, axis=1))
+        h = np.sqrt(k / (k + 1))[:, None] * direct[:, None] + np.sqrt(1 / (k + 1))[:, None] * (
+            scattered @ self.band
+        )
+        power = np.mean(h.real**2 + h.imag**2, axis=1)
+        return 10 * np.log10(np.maximum(power, 1e-12))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -262,6 +359,7 @@ class RadioModel:
         path_loss_exponent: n of the log-distance law.
         system_loss_db: losses between EIRP and the phone's report, dB.
         shadowing: one field per AP, or ``None`` when σ = 0.
+        multipath: one small-scale field per AP, or ``None`` when disabled.
         slab_loss_db: (n_ap,) the COST 231 multi-floor loss of each AP, dB.
         body_loss_db: loss behind the carrier's body, dB (:meth:`body_shadow_db`).
         plan: the walls and pillars that attenuate.
@@ -292,6 +390,21 @@ class RadioModel:
         self.system_loss_db = radio.system_loss_db
         self.body_loss_db = radio.body_loss_db
         self.pillar_loss_db = radio.pillar_loss_db
+        self.multipath: list[MultipathField] | None = None
+        if radio.multipath.enabled:
+            spec = radio.multipath
+            self.multipath = [
+                MultipathField.sample(
+                    multipath_rng(scenario.seed, bssid),
+                    float(f_ghz),
+                    paths=spec.paths,
+                    delay_spread_ns=spec.delay_spread_ns,
+                    rician_k_db=spec.rician_k_db,
+                    rician_k_sigma_db=spec.rician_k_sigma_db,
+                    bandwidth_mhz=spec.bandwidth_mhz,
+                )
+                for bssid, f_ghz in zip(self.bssids, self.frequency_ghz, strict=True)
+            ]
         self.shadowing: list[ShadowingField] | None = None
         if radio.shadowing_sigma_db > 0:
             self.shadowing = [
@@ -304,8 +417,10 @@ class RadioModel:
                 for bssid in self.bssids
             ]
 
-    def rss(self, points: ArrayLike) -> NDArray[np.float64]:
-        """(N, n_ap) mean received power in dBm at (N, 3) points (no per-scan fading)."""
+    def rss(self, points: ArrayLike, *, small_scale: bool = False) -> NDArray[np.float64]:
+        """(N, n_ap) received power in dBm at (N, 3) points: the local mean, or with
+        ``small_scale`` the multipath fade at exactly these points added (what a phone
+        there reads before its own temporal variation)."""
         p = _as_points3(points)
         ref_db = (
             self.tx_power_dbm
@@ -316,13 +431,16 @@ class RadioModel:
         out = np.empty((len(p), len(self.bssids)))
         for k, (ap, f_ghz) in enumerate(zip(self.positions, self.frequency_ghz, strict=True)):
             d = np.maximum(np.linalg.norm(p - ap, axis=1), REFERENCE_DISTANCE_M)
-            out[:, k] = (
-                ref_db[k]
-                - 10 * self.path_loss_exponent * np.log10(d / REFERENCE_DISTANCE_M)
-                - self.plan.crossing_loss_db(
-                    p[:, :2], ap[None, :2], float(f_ghz), pillar_loss_db=self.pillar_loss_db
-                )
+            walls = self.plan.crossing_loss_db(
+                p[:, :2], ap[None, :2], float(f_ghz), pillar_loss_db=self.pillar_loss_db
             )
+            out[:, k] = ref_db[k] - 10 * self.path_loss_exponent * np.log10(
+                d / REFERENCE_DISTANCE_M
+            )
+            out[:, k] -= walls
+            if small_scale and self.multipath is not None:
+                obstruction = walls + self.slab_loss_db[k]
+                out[:, k] += self.multipath[k].fading_db(p, ap, obstruction)
         if self.shadowing is not None:
             out += self.shadowing_db(p)
         return out

@@ -5,7 +5,7 @@ This is the public face of the world model (DESIGN §4)::
     site = indoorsim.load_site("han2023_corridor")   # a bundled name or a YAML path
     site.magnetic_field(points)          # (N, 3) µT, building frame, Earth + dipoles
     site.illuminance(points, normals)    # (N,) lux on receivers with unit normals
-    site.rss(points)                     # (N, n_ap) mean dBm (no per-scan fading)
+    site.rss(points)                     # (N, n_ap) mean dBm (small_scale=True: + multipath)
     site.plan.crosses_wall(p0, p1)       # (N,) bool for N segments
     site.plan.is_walkable(points)        # (N,) bool
 """
@@ -72,9 +72,11 @@ class Site:
             raise ValueError(f"normals: {len(n)} rows for {len(p)} points")
         return self.light.illuminance(p, n, body, response_exponent)
 
-    def rss(self, points: ArrayLike) -> NDArray[np.float64]:
-        """(N, n_ap) mean received power in dBm at (N, 3) points (no per-scan fading)."""
-        return self.radio.rss(_finite_rows(points, "points"))
+    def rss(self, points: ArrayLike, *, small_scale: bool = False) -> NDArray[np.float64]:
+        """(N, n_ap) received power in dBm at (N, 3) points: the local mean, or with
+        ``small_scale`` the multipath fade at exactly these points too (what a phone
+        there samples; no per-scan variation either way)."""
+        return self.radio.rss(_finite_rows(points, "points"), small_scale=small_scale)
 
     def __repr__(self) -> str:
         return f"Site({self.name!r})"

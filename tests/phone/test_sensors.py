@@ -380,10 +380,13 @@ def test_wifi_threshold_drops_weak_aps_and_values_are_whole_dbm() -> None:
     assert np.all(rss >= spec.detection_threshold_dbm)
     assert np.all(rss == np.round(rss))
     heard = table.groupby("bssid")["rss"].size()
-    assert heard["strong"] == scans.size  # 17 σ above the threshold: never missed
+    # 17 σ above the threshold: missed only when its beacon is lost.
+    missed = 1 - heard["strong"] / scans.size
+    assert missed == pytest.approx(spec.miss_probability, abs=4 * math.sqrt(0.04 / scans.size))
     assert 0 < heard["edge"] < scans.size  # at the threshold: sometimes missed
     assert "weak" not in heard.index and "absent" not in heard.index
-    np.testing.assert_array_equal(np.unique(table["t"]), scans)
+    # Every row carries its scan's time (a scan that missed every AP has no row).
+    assert np.isin(np.unique(table["t"]), scans).all()
 
 
 def test_wifi_fading_sigma_is_reproduced() -> None:
@@ -415,6 +418,36 @@ def test_wifi_without_throttling_scans_at_the_requested_interval() -> None:
     assert np.mean(np.diff(scans)) == pytest.approx(spec.scan_interval_s, rel=0.02)
     lag = scans - (10.0 + spec.scan_interval_s * np.arange(scans.size))
     assert np.all(np.abs(lag - spec.scan_duration_s) <= spec.scan_duration_spread_s)
+
+
+def test_wifi_misses_each_ap_independently_with_its_probability() -> None:
+    spec = WifiSpec(miss_probability=0.1)
+    scans = np.arange(5000) * 3.0
+    table = scan_rss(scans, np.full((scans.size, 2), -50.0), ["a", "b"], spec, rng())
+    heard = table.pivot_table(index="t", columns="bssid", values="rss", aggfunc="size")
+    heard = heard.reindex(scans).notna().to_numpy()
+    assert 1 - heard.mean() == pytest.approx(0.1, abs=0.012)
+    # Independent per AP: both missed in about 1 % of scans.
+    assert np.mean(~heard[:, 0] & ~heard[:, 1]) == pytest.approx(0.01, abs=0.005)
+    with pytest.raises(ValueError, match="miss_probability"):
+        WifiSpec(miss_probability=1.0)
+
+
+def test_a_logging_app_scans_back_to_back_and_the_throttle_still_holds() -> None:
+    spec = WifiSpec(
+        scan_interval_s=1.0, scan_duration_s=3.0, scan_duration_spread_s=1.0, continuous=True
+    )
+    scans = wifi_scans(600.0, spec, rng(), start=10.0)
+    gaps = np.diff(np.concatenate([[10.0], scans]))
+    # Each scan's results are the next request: the gaps are the scans' durations.
+    assert np.all((gaps >= 2.0) & (gaps <= 4.0)) and scans[-1] < 610.0
+    assert np.mean(gaps) == pytest.approx(3.0, abs=0.1)
+    assert np.std(gaps) == pytest.approx(2 / math.sqrt(12), rel=0.15)  # uniform ±1 s
+    # Fixed durations, so the results keep the accepted requests' spacing.
+    fixed = dataclasses.replace(spec, throttling=True, scan_duration_spread_s=0.0)
+    throttled = wifi_scans(3600.0, fixed, rng())
+    in_window = np.searchsorted(throttled, throttled + THROTTLE_WINDOW_S, side="right")
+    assert (in_window - np.arange(throttled.size)).max() == THROTTLE_MAX_SCANS
 
 
 def test_scan_rss_of_no_scan_is_an_empty_table_with_the_same_columns() -> None:

@@ -11,6 +11,7 @@ from indoorsim.scenario import parse_scenario
 from indoorsim.world.materials import MATERIALS
 from indoorsim.world.plan import FloorPlan
 from indoorsim.world.radio import (
+    MultipathField,
     RadioModel,
     floor_loss_db,
     free_space_loss_1m_db,
@@ -257,3 +258,92 @@ def test_a_phone_against_the_body_loses_the_aps_on_the_bodys_side():
     assert loss[0] < 8.0 and loss[1] < 8.0  # those to the sides lose less (half-shadowed)
     with pytest.raises(ValueError, match="torso_xy"):
         model.body_shadow_db(phone, np.zeros((2, 2)))
+
+
+# ------------------------------------------------------------------- multipath
+
+
+def _field(paths: int = 128, delay_ns: float = 1e-6, k_db: float = -200.0, seed: int = 0):
+    return MultipathField.sample(
+        np.random.default_rng(seed),
+        2.4,
+        paths=paths,
+        delay_spread_ns=delay_ns,
+        rician_k_db=k_db,
+        rician_k_sigma_db=0.0,
+        bandwidth_mhz=20.0,
+    )
+
+
+AP = np.array([0.0, 0.0, 2.5])
+
+
+def _places(n: int = 40_000, seed: int = 1) -> np.ndarray:
+    return np.random.default_rng(seed).uniform([-40, -40, 0], [40, 40, 3], (n, 3))
+
+
+def test_narrowband_scattering_alone_is_rayleigh_fading():
+    # Power exponential with mean 1: in dB, mean −10·γ/ln 10 = −2.51 dB and std
+    # 10/ln 10 · π/√6 = 5.57 dB.
+    fade = _field().fading_db(_places(), AP, np.zeros(40_000))
+    assert np.mean(10 ** (fade / 10)) == pytest.approx(1.0, abs=0.03)
+    assert np.mean(fade) == pytest.approx(-10 * np.euler_gamma / math.log(10), abs=0.15)
+    assert np.std(fade) == pytest.approx(10 / math.log(10) * math.pi / math.sqrt(6), rel=0.04)
+
+
+def test_the_band_average_has_the_variance_of_its_frequency_correlation():
+    # For a Gaussian field the covariance of |h(f_i)|² and |h(f_j)|² is |ρ_ij|², ρ the
+    # correlation between frequencies: Σ_m band[m, i]·conj(band[m, j]) for these paths.
+    field = _field(delay_ns=40.0)
+    power = 10 ** (field.fading_db(_places(), AP, np.zeros(40_000)) / 10)
+    rho = field.band.T @ field.band.conj()
+    assert np.var(power) == pytest.approx(np.mean(np.abs(rho) ** 2), rel=0.06)
+    assert np.std(10 * np.log10(power)) < 4.0  # shallower than narrowband Rayleigh's 5.6 dB
+
+
+def test_fading_decorrelates_within_half_a_wavelength():
+    # Isotropic scattering in 3-D: field correlation sinc(k·d), zero at d = λ/2.
+    field = _field()
+    p = _places(20_000)
+    wavelength = 2 * math.pi / field.wavenumber
+    power = [
+        10 ** (field.fading_db(p + np.array([d, 0.0, 0.0]), AP, np.zeros(len(p))) / 10)
+        for d in (0.0, wavelength / 20, wavelength / 2)
+    ]
+    near = np.corrcoef(power[0], power[1])[0, 1]
+    half = np.corrcoef(power[0], power[2])[0, 1]
+    assert near > 0.9
+    assert abs(half) < 0.05
+    assert near == pytest.approx(np.sinc(1 / 10) ** 2, abs=0.03)  # np.sinc(x) = sin(πx)/(πx)
+
+
+def test_a_strong_direct_wave_flattens_the_fade_and_a_wall_in_its_way_brings_it_back():
+    field = _field(k_db=40.0)
+    p = _places(5000)
+    clear = field.fading_db(p, AP, np.zeros(len(p)))
+    # P ≈ 1 + 2·Re(s)/√K for a unit scattered field s: std 10/ln 10 · √(2/K) dB.
+    assert np.std(clear) == pytest.approx(10 / math.log(10) * math.sqrt(2e-4), rel=0.1)
+    behind_walls = field.fading_db(p, AP, np.full(len(p), 60.0))
+    assert np.std(behind_walls) == pytest.approx(5.57, rel=0.06)
+
+
+def test_rss_small_scale_adds_each_aps_own_fade_to_the_local_mean():
+    aps = [_ap(5, 5), _ap(25, 8, bssid="02:00:00:00:00:02", frequency_ghz=5.6)]
+    partition = [{"from": [15, 0], "to": [15, 10], "thickness": 0.2}]
+    model = _model(_hall(30, 10, walls=partition, wifi=aps, radio=NO_SHADOWING))
+    p = np.random.default_rng(0).uniform([0, 0, 0], [30, 10, 3], (300, 3))
+    fade = model.rss(p, small_scale=True) - model.rss(p)
+    for k, field in enumerate(model.multipath):
+        walls = model.plan.crossing_loss_db(
+            p[:, :2],
+            model.positions[None, k, :2],
+            aps[k].get("frequency_ghz", 2.4),
+            pillar_loss_db=model.pillar_loss_db,
+        )
+        np.testing.assert_allclose(fade[:, k], field.fading_db(p, model.positions[k], walls))
+    # The same spot reads the same fade; another seed gives another field.
+    np.testing.assert_array_equal(model.rss(p, small_scale=True), model.rss(p, small_scale=True))
+    other = _model(_hall(30, 10, walls=partition, wifi=aps, radio=NO_SHADOWING, seed=5))
+    assert not np.allclose(other.rss(p, small_scale=True), model.rss(p, small_scale=True))
+    off = _model(_hall(30, 10, wifi=aps, radio={**NO_SHADOWING, "multipath": {"enabled": False}}))
+    np.testing.assert_array_equal(off.rss(p, small_scale=True), off.rss(p))

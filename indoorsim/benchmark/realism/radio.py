@@ -15,7 +15,16 @@ Keys (NaN where not measured):
 ``static_std``      median over (point, AP) of the std of RSS across repeated
                     scans standing at the point, over the pairs heard in every
                     repeat (dB)
+``visit_std``       the same over (visit, AP): the scans of one stay at a point,
+                    the phone not moved in between (dB)
+``miss_share``      share of a visit's scans that miss an AP the visit hears at
+                    a median −80…−55 dBm, well above any detection threshold
 ==================  ============================================================
+
+A point of the UJI sets is visited twice (on the way out and back); between
+visits the phone lands a few centimetres apart and the surveyor faces the
+other way, so ``static_std`` holds the multipath fade of the spot and the
+body's shadow, and ``visit_std`` only what changes while the phone is still.
 """
 
 from __future__ import annotations
@@ -28,9 +37,24 @@ from numpy.typing import ArrayLike
 
 from indoorsim.io.recording import Recording
 
-__all__ = ["RADIO_KEYS", "level_statistics", "radio_statistics", "scan_statistics", "static_spread"]
+__all__ = [
+    "MISS_LEVELS_DBM",
+    "RADIO_KEYS",
+    "STATIC_KEYS",
+    "level_statistics",
+    "miss_share",
+    "radio_statistics",
+    "scan_statistics",
+    "static_spread",
+    "static_statistics",
+]
 
-RADIO_KEYS = ("rss_mean", "rss_p90", "aps_per_scan", "scan_interval", "static_std")
+STATIC_KEYS = ("static_std", "visit_std", "miss_share")
+"""The statistics of repeated scans standing still (NaN for a walk)."""
+RADIO_KEYS = ("rss_mean", "rss_p90", "aps_per_scan", "scan_interval", *STATIC_KEYS)
+
+MISS_LEVELS_DBM = (-80.0, -55.0)
+"""The median levels of the APs whose misses :func:`miss_share` counts."""
 
 
 def level_statistics(rss: ArrayLike) -> dict[str, float]:
@@ -43,7 +67,7 @@ def level_statistics(rss: ArrayLike) -> dict[str, float]:
 
 
 def scan_statistics(wifi: pd.DataFrame) -> dict[str, float]:
-    """:data:`RADIO_KEYS` but ``static_std`` of a ``wifi`` stream (rows: t index, bssid, rss)."""
+    """:data:`RADIO_KEYS` but :data:`STATIC_KEYS` of a ``wifi`` stream (t index, bssid, rss)."""
     out = dict.fromkeys(RADIO_KEYS, math.nan)
     if len(wifi) == 0:
         return out
@@ -81,6 +105,41 @@ def static_spread(rss: ArrayLike, point: ArrayLike) -> float:
         spreads.append(block[:, heard].std(axis=0, ddof=1))
     pooled = np.concatenate(spreads) if spreads else np.zeros(0)
     return float(np.median(pooled)) if pooled.size else math.nan
+
+
+def miss_share(rss: ArrayLike, visit: ArrayLike) -> float:
+    """Share of scans that miss an AP heard in the same visit at a median level
+    within :data:`MISS_LEVELS_DBM`.
+
+    Args:
+        rss: (S, n_ap) levels of S scans, NaN where the AP was not heard.
+        visit: (S,) the stay each scan belongs to (the phone still within one).
+    """
+    levels = np.asarray(rss, dtype=float)
+    where = np.asarray(visit)
+    if levels.ndim != 2 or where.shape != (len(levels),):
+        raise ValueError(f"rss {levels.shape} must be (S, n_ap) and visit {where.shape} (S,)")
+    lo, hi = MISS_LEVELS_DBM
+    missed = scans = 0
+    for v in np.unique(where):
+        block = levels[where == v]
+        heard = np.isfinite(block)
+        some = heard.any(axis=0)
+        median = np.full(block.shape[1], np.nan)
+        median[some] = np.nanmedian(block[:, some], axis=0)
+        strong = some & (median >= lo) & (median <= hi)
+        missed += int((~heard[:, strong]).sum())
+        scans += int(strong.sum()) * len(block)
+    return missed / scans if scans else math.nan
+
+
+def static_statistics(rss: ArrayLike, point: ArrayLike, visit: ArrayLike) -> dict[str, float]:
+    """:data:`STATIC_KEYS` of repeated scans: (S, n_ap) levels, each scan's point and visit."""
+    return {
+        "static_std": static_spread(rss, point),
+        "visit_std": static_spread(rss, visit),
+        "miss_share": miss_share(rss, visit),
+    }
 
 
 def radio_statistics(rec: Recording) -> dict[str, float]:

@@ -31,7 +31,7 @@ from indoorsim.benchmark.realism.radio import (
     RADIO_KEYS,
     level_statistics,
     radio_statistics,
-    static_spread,
+    static_statistics,
 )
 from indoorsim.io.recording import Recording
 
@@ -240,8 +240,9 @@ def real_magnetic_table(realdata: Path) -> pd.DataFrame:
 
 def uji_scans(folder: Path) -> pd.DataFrame:
     """One UJI fingerprint set (``<folder>/<set>rss.csv`` and ``crd.csv``) as a table:
-    ``x``, ``y``, ``floor``, ``point`` (an id per reference point) and one column per AP
-    (dBm, NaN where not heard — the files' 100)."""
+    ``x``, ``y``, ``floor``, ``point`` (an id per reference point), ``visit`` (an id per
+    run of consecutive scans at one point: one stay) and one column per AP (dBm, NaN
+    where not heard — the files' 100)."""
     name = folder.name
     rss = np.loadtxt(folder.parent / f"{name}rss.csv", delimiter=",")
     crd = np.loadtxt(folder.parent / f"{name}crd.csv", delimiter=",")
@@ -251,6 +252,7 @@ def uji_scans(folder: Path) -> pd.DataFrame:
     table.columns = [f"ap{j:03d}" for j in range(rss.shape[1])]
     where = pd.DataFrame(crd, columns=["x", "y", "floor"])
     where["point"] = where.groupby(["x", "y", "floor"], sort=False).ngroup()
+    where["visit"] = (where["point"] != where["point"].shift()).cumsum() - 1
     return pd.concat([where, table], axis=1)
 
 
@@ -260,8 +262,9 @@ def real_radio_table(realdata: Path) -> pd.DataFrame:
     * ILC traces (walking, a mall floor): levels and scan interval. Their APs per
       scan are left out: a mall's 150–480 results per scan, cached ones included,
       say nothing of the offices, corridors and halls simulated here.
-    * UJI library sets (standing, 12 repeats per point): levels, APs per scan and
-      the spread over repeats.
+    * UJI library sets (standing, 12 repeats per point in two visits): levels, APs
+      per scan, the spread over repeats and within a visit, the share of scans that
+      miss a strong AP.
     """
     rows = []
     ilc = next(source for source in MAGNETIC_SOURCES if source.name == "ms-indoor-location-2020")
@@ -275,7 +278,7 @@ def real_radio_table(realdata: Path) -> pd.DataFrame:
         aps = scans.filter(like="ap").to_numpy()
         stats = dict.fromkeys(RADIO_KEYS, np.nan) | level_statistics(aps.ravel())
         stats["aps_per_scan"] = float(np.median(np.isfinite(aps).sum(axis=1)))
-        stats["static_std"] = static_spread(aps, scans["point"].to_numpy())
+        stats |= static_statistics(aps, scans["point"].to_numpy(), scans["visit"].to_numpy())
         walk = f"{rss_file.parent.name}/{name}"
         rows.append(
             {"dataset": "uji-lib-longterm-wifi", "walk": walk, "licence": UJI_LICENCE} | stats

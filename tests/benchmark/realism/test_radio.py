@@ -7,9 +7,16 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+import scipy.stats
 
-from indoorsim.benchmark.realism.radio import level_statistics, scan_statistics, static_spread
-from indoorsim.benchmark.realism.report import STATIC_REPEATS, static_scans
+from indoorsim.benchmark.realism.radio import (
+    level_statistics,
+    miss_share,
+    scan_statistics,
+    static_spread,
+    static_statistics,
+)
+from indoorsim.benchmark.realism.report import STATIC_REPEATS, STATIC_VISITS, static_scans
 from indoorsim.phone.devices import get_device
 from indoorsim.scenario.load import load_site
 
@@ -39,16 +46,42 @@ def test_static_spread_counts_only_pairs_heard_in_every_repeat():
         static_spread(rss, np.zeros(2))
 
 
-def test_simulated_static_spread_is_the_phones_fading():
-    # APs heard far above the threshold: each repeat is μ + σ·ξ rounded to whole dB,
-    # so the sample std is about √(σ² + 1/12), less the small-sample bias of 12 repeats.
+def test_simulated_stays_vary_by_the_phones_own_spread_and_visits_by_the_fade():
+    # APs heard far above the threshold. Within a stay each scan is μ + σ·ξ rounded to
+    # whole dB, so the sample std is about √(σ² + 1/12), less the small-sample bias of
+    # 6 scans; between the two visits the spot's multipath fade and the body's side
+    # change, so the spread over all 12 scans is larger.
     site = load_site("chen2022_office")
     device = "nexus_5x"
-    sigma = get_device(device).wifi.fading_sigma_db
+    spec = get_device(device).wifi
     points = np.array([[x, 2.0] for x in np.linspace(2.0, 20.0, 40)])
-    levels, point = static_scans(site, points, device, seed=3)
+    levels, point, visit = static_scans(site, points, device, seed=3)
     assert levels.shape[0] == len(points) * STATIC_REPEATS
-    strong = np.nanmin(levels, axis=0) > get_device(device).wifi.detection_threshold_dbm + 15
+    assert np.array_equal(np.unique(visit // STATIC_VISITS), np.unique(point))
+    strong = np.nanmin(levels, axis=0) > spec.detection_threshold_dbm + 15
     assert strong.sum() >= 3
-    spread = static_spread(levels[:, strong], point)
-    assert spread == pytest.approx(math.sqrt(sigma**2 + 1 / 12), rel=0.1)
+    stats = static_statistics(levels[:, strong], point, visit)
+    # The median over pairs of a 6-sample std: σ·√(median of χ²₅ / 5).
+    sigma = math.sqrt(spec.fading_sigma_db**2 + 1 / 12)
+    expected = sigma * math.sqrt(scipy.stats.chi2.median(5) / 5)
+    assert stats["visit_std"] == pytest.approx(expected, rel=0.1)
+    assert stats["static_std"] > stats["visit_std"] + 0.5
+    every = static_statistics(levels, point, visit)
+    assert every["miss_share"] == pytest.approx(spec.miss_probability, abs=0.01)
+
+
+def test_miss_share_counts_the_strong_aps_a_stay_missed():
+    nan = np.nan
+    rss = np.array(
+        [
+            [-60.0, -90.0, -70.0],
+            [nan, -91.0, -71.0],
+            [-61.0, nan, -72.0],
+            [-62.0, -90.0, nan],
+        ]
+    )
+    # Stay 0 (rows 0–1): APs 0 and 2 are strong, AP 0 missed once: 1 of 4.
+    # Stay 1 (rows 2–3): APs 0 and 2 strong (AP 2's median −72), AP 2 missed once: 1 of 4.
+    # AP 1 (−90 dBm) is never counted.
+    assert miss_share(rss, np.array([0, 0, 1, 1])) == pytest.approx(2 / 8)
+    assert math.isnan(miss_share(rss[:, 1:2], np.zeros(4)))
