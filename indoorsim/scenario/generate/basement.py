@@ -23,7 +23,8 @@ Figures it follows:
   (reflectance: ceiling 0.5, walls 0.4, floor 0.2), so the floor stays dim as
   car parks are (REALISM §3.3).
 * Radio: APs every 16–20 m along each aisle; path-loss exponent 2.2 and
-  shadowing σ 5 dB, within REALISM §4.1 and §4.3's ranges.
+  shadowing σ 5 dB, within REALISM §4.1 and §4.3's ranges; the APs of the
+  two storeys above heard through the slabs, none below.
 * Routes: ``aisle_loop`` round the aisles (along the first one and back when
   there is only one), ``aisle`` along the first aisle, ``to_stairs`` a
   start/goal walk to the stair door; surveys: a grid over the whole floor and
@@ -227,7 +228,12 @@ def build_basement(size: Size | None, seed: int) -> Scenario:
             f"stair and lift core, plant room, ramp; dim tube lighting over the aisles."
         ),
         magnetic=d.magnetic(beam_m3_per_m=0.008, bay_m=bay),
-        # Underground: the ground floor above it, no storey below.
-        radio={"path_loss_exponent": 2.2, "shadowing_sigma_db": 5.0, "floors_below": 0},
+        radio={
+            "path_loss_exponent": 2.2,
+            "shadowing_sigma_db": 5.0,
+            # Under the ground: nothing below, two storeys of the building above.
+            "floors_above": 2,
+            "floors_below": 0,
+        },
         light={"reflectance": {"ceiling": 0.5, "walls": 0.4, "floor": 0.2}},
     )

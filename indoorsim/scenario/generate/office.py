@@ -23,7 +23,8 @@ Figures it follows:
   3–5 m, tubes or panels in a 2.4–3.6 m grid in the rooms.
 * Radio: APs every 12–18 m along the corridor and on the far wall of some
   large rooms; path-loss exponent 2.0 and shadowing σ 4 dB, within REALISM
-  §4.1's corridor and §4.3's ranges.
+  §4.1's corridor and §4.3's ranges; the floor is one of an office block, so
+  the APs of two storeys above and two below are heard through the slabs.
 * Routes: ``corridor`` along the centre line, ``round_trip`` out and back on
   either side of it, ``room_visit`` into one room and on; surveys on the
   corridor (grid over its floor, walk with reference points 5–10 m apart).
@@ -214,5 +215,11 @@ def build_office(size: Size | None, seed: int) -> Scenario:
             f"of {length / n_bays:.2f} m, a stair and lift core."
         ),
         magnetic=d.magnetic(beam_m3_per_m=0.005, bay_m=bay),
-        radio={"path_loss_exponent": 2.0, "shadowing_sigma_db": 4.0},
+        radio={
+            "path_loss_exponent": 2.0,
+            "shadowing_sigma_db": 4.0,
+            # An office block with a lift: two storeys each way are heard through the slabs.
+            "floors_above": 2,
+            "floors_below": 2,
+        },
     )
