@@ -81,7 +81,7 @@ INSIDE = {
 
 INSIDE_ENVIRONMENT: dict[str, set[str]] = {
     MAGNETIC_MODE: {"std_short", "mag_std"},
-    RADIO_MODE: {"rss_mean", "scan_interval", "visit_std", "miss_share"},
+    RADIO_MODE: {"rss_mean", "aps_per_scan", "scan_interval", "visit_std", "miss_share"},
     LIGHT_MODE: set(),
 }
 """Magnetic, WiFi and light statistics inside their real range on every site (the issue

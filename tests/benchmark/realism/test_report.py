@@ -13,6 +13,7 @@ from indoorsim.benchmark.realism.motion import MOTION_KEYS
 from indoorsim.benchmark.realism.radio import RADIO_KEYS
 from indoorsim.benchmark.realism.reference import (
     QUOTED_RANGES,
+    RADIO_MODE,
     load_real_magnetic,
     load_real_motion,
     load_real_profiles,
@@ -50,6 +51,25 @@ def test_a_real_range_is_the_measured_one_joined_with_the_quoted_one():
     assert (low, high, source) == (6.0, 9.0, "2 real logs")
     low, _, source = real_range(_real("handheld", "acc_p2p", []), "calling", "acc_p2p")
     assert math.isnan(low) and source == "no real data"
+
+
+def test_a_statistic_of_some_kinds_of_building_leaves_the_others_unjudged():
+    # APs per scan hold for offices (and libraries, museums): a car park is shown only.
+    real = pd.DataFrame({"mode": RADIO_MODE, "aps_per_scan": [14.0, 28.0]})
+    sim = pd.DataFrame(
+        {"site": ["o", "g"], "kind": ["office", "basement"], "mode": RADIO_MODE, "seed": 0}
+    )
+    for key in COMPARED_RADIO:
+        sim[key] = np.nan
+    sim["aps_per_scan"] = [18.0, 9.0]
+    table = compare(real, sim, COMPARED_RADIO)
+    row = table[table["statistic"] == "aps_per_scan"].iloc[0]
+    assert row["sites"] == 1 and row["sites_inside"] == 1 and row["not_judged"] == "g"
+    text = markdown(table, ["o", "g"], COMPARED_RADIO)
+    assert "18 ✓" in text and "9 (not judged)" in text
+    # Without kinds every site is judged.
+    row = compare(real, sim.drop(columns="kind"), COMPARED_RADIO).iloc[2]
+    assert row["statistic"] == "aps_per_scan" and row["sites"] == 2 and row["sites_inside"] == 1
 
 
 def test_compare_counts_the_sites_whose_median_lies_inside():

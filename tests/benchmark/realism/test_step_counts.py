@@ -58,7 +58,7 @@ def test_the_detector_miscounts_a_simulated_walk_as_it_does_a_real_one(sites, mo
             simulate(site, route=next(iter(site.scenario.routes)), mode=mode, seed=0),
             min_interval_s,
         )
-        for _, site in sites
+        for _, _, site in sites
     ]
     low, high = real.min() - MARGIN_PP, real.max() + MARGIN_PP
     assert low <= float(np.median(simulated)) <= high, (
