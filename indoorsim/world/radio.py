@@ -135,14 +135,17 @@ def shadowing_rng(seed: int, bssid: str) -> np.random.Generator:
     Keyed by a hash of the (case-folded) BSSID, not by the AP's index, so that
     adding, removing or reordering APs leaves every other AP's field unchanged.
     """
-    key = zlib.crc32(bssid.lower().encode("ascii"))
-    return generator(seed, (_SHADOWING_STREAM, key))
+    return _ap_generator(seed, _SHADOWING_STREAM, bssid)
 
 
 def multipath_rng(seed: int, bssid: str) -> np.random.Generator:
     """The generator of one AP's multipath field, keyed like :func:`shadowing_rng`."""
-    key = zlib.crc32(bssid.lower().encode("ascii"))
-    return generator(seed, (_MULTIPATH_STREAM, key))
+    return _ap_generator(seed, _MULTIPATH_STREAM, bssid)
+
+
+def _ap_generator(seed: int, stream: int, bssid: str) -> np.random.Generator:
+    """One AP's generator of one model's ``stream``, keyed by its case-folded BSSID."""
+    return generator(seed, (stream, zlib.crc32(bssid.lower().encode("ascii"))))
 
 
 MULTIPATH_FREQUENCIES = 8

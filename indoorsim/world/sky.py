@@ -37,6 +37,7 @@ Not modelled: other buildings and the building's own wings outside a window
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
 import math
 from dataclasses import dataclass
@@ -168,18 +169,19 @@ class SkyState:
         sun = np.array(
             [math.cos(alt) * math.sin(bearing), math.cos(alt) * math.cos(bearing), math.sin(alt)]
         )
-        cie = CIE_SKY_TYPES[condition.cie_type]
+        # The sky's shape with a unit zenith luminance, from which the rest is scaled.
+        relative = cls(
+            cie=CIE_SKY_TYPES[condition.cie_type],
+            zenith_luminance=1.0,
+            sun=sun,
+            sun_normal_lux=0.0,
+            ground_luminance=0.0,
+            transmittance=daylight.transmittance,
+            panes=daylight.panes,
+            daytime=True,
+        )
         if altitude <= 0.0:
-            return cls(
-                cie=cie,
-                zenith_luminance=0.0,
-                sun=sun,
-                sun_normal_lux=0.0,
-                ground_luminance=0.0,
-                transmittance=daylight.transmittance,
-                panes=daylight.panes,
-                daytime=False,
-            )
+            return dataclasses.replace(relative, zenith_luminance=0.0, daytime=False)
         a, b, c = condition.sky_klx
         sky_lux = 1000.0 * (a + b * math.sin(alt) ** c)
         day = site.date.timetuple().tm_yday
@@ -189,26 +191,11 @@ class SkyState:
         sun_lux = 0.0
         if condition.extinction is not None:
             sun_lux = extraterrestrial * math.exp(-condition.extinction * air_mass)
-        relative = cls(
-            cie=cie,
-            zenith_luminance=1.0,
-            sun=sun,
-            sun_normal_lux=0.0,
-            ground_luminance=0.0,
-            transmittance=daylight.transmittance,
-            panes=daylight.panes,
-            daytime=True,
-        )
-        zenith = sky_lux / relative.horizontal_sky_lux()
-        return cls(
-            cie=cie,
-            zenith_luminance=zenith,
-            sun=sun,
+        return dataclasses.replace(
+            relative,
+            zenith_luminance=sky_lux / relative.horizontal_sky_lux(),
             sun_normal_lux=sun_lux,
             ground_luminance=daylight.ground_reflectance * (sky_lux + sun_lux * sun[2]) / math.pi,
-            transmittance=daylight.transmittance,
-            panes=daylight.panes,
-            daytime=True,
         )
 
     @cached_property
