@@ -8,9 +8,14 @@ An estimator is any object with::
     def act(self, obs: Observation) -> np.ndarray                          # (x, y) now, metres
 
 An estimator may also expose ``heading`` (its current walking-direction
-estimate, rad counter-clockwise from the building's +x) and ``step_count``
-(steps detected so far): the runner then scores heading error per window and
-step-count error.
+estimate, rad counter-clockwise from the building's +x), ``step_count``
+(steps detected so far) and ``estimate_time`` (the time, s, its current
+answer refers to — a step estimator's last step, a fingerprint match's
+samples — no later than the window's end; None for "now"): the runner then
+scores heading error per window, step-count error, and each estimate also
+against the truth at the time it refers to (the ``_reftime`` metrics, the
+papers' per-step protocol, beside the time-uniform ones at the window's end:
+:mod:`~indoorsim.benchmark.evaluation`).
 
 It sees only what a real team would have: the :class:`SiteContext` (floor
 plan, fingerprint databases measured with the survey phone, the site's

@@ -77,8 +77,10 @@ class PdrBasic:
     heading; without the fused gravity the window's mean specific force
     stands in for "up" (walking accelerations average out over a gait cycle).
 
-    Besides the position it exposes ``heading`` (the latest gyro heading) and
-    ``step_count`` (steps detected this episode) for the runner's metrics.
+    Besides the position it exposes ``heading`` (the latest gyro heading),
+    ``step_count`` (steps detected this episode) and ``estimate_time`` (the
+    last step's heel strike: the peak time less the detector's filter delay)
+    for the runner's metrics.
 
     Attributes:
         weinberg_k: Weinberg's K for a in m/s².
@@ -96,11 +98,17 @@ class PdrBasic:
         default=None, init=False, repr=False, compare=False
     )
     _steps: int = field(default=0, init=False, repr=False, compare=False)
+    _estimate_time: float = field(default=0.0, init=False, repr=False, compare=False)
 
     @property
     def heading(self) -> float:
         """Current walking-direction estimate, rad counter-clockwise from +x."""
         return self.gyro_heading.heading
+
+    @property
+    def estimate_time(self) -> float:
+        """The time the position refers to: the last step's heel strike (else the start), s."""
+        return self._estimate_time
 
     @property
     def step_count(self) -> int:
@@ -113,6 +121,7 @@ class PdrBasic:
     def reset(self, start: StartInfo) -> None:
         self._position = np.array(start.position, dtype=float)
         self._steps = 0
+        self._estimate_time = float(start.t0)
         self.detector.reset()
         self.gyro_heading.reset(start.heading)
 
@@ -136,6 +145,7 @@ class PdrBasic:
             phi = self.gyro_heading.at([s.t for s in steps])
             length = weinberg([s.a_max for s in steps], [s.a_min for s in steps], self.weinberg_k)
             self._position += np.array([length @ np.cos(phi), length @ np.sin(phi)])
+            self._estimate_time = steps[-1].t - self.detector.delay_s
         return self._position.copy()
 
 

@@ -23,9 +23,9 @@ back. A building heading of 0 therefore moves a particle along +x.
 
 Readings taken where the paper is silent or loose (PAPER_NOTES, Chen2022 item 6):
 
-* Eq. 27 is exp(−‖z − x‖) with no square and no R; the default likelihood is
-  the Gaussian exp(−d²/2R) (:func:`gaussian_likelihood`), the literal form is
-  :func:`literal_likelihood`. Eq. 27's prefactor 1/(√‖R‖·√2π) is the same for
+* Eq. 27 is exp(−‖z − x‖) with no square and no R: :func:`literal_likelihood`,
+  the pipeline's default; the Gaussian exp(−d²/2R) is
+  :func:`gaussian_likelihood`. Eq. 27's prefactor 1/(√‖R‖·√2π) is the same for
   every particle and cancels when the weights are normalised, so it is left out.
 * Step-length noise (``sigma_step``) is added to the paper's G_φ, G_x, G_y.
 * Degenerate weights are handled explicitly, never by dividing by zero:
@@ -75,7 +75,7 @@ class PlanLike(Protocol):
 
 
 def gaussian_likelihood(d: ArrayLike, R: float) -> NDArray[np.float64]:
-    """Gaussian likelihood of a position fix at distances d, exp(−d²/2R) (Eq. 27, default reading).
+    """Gaussian likelihood of a position fix at distances d, exp(−d²/2R) (Eq. 27, an option).
 
     With d = ‖z − x‖ this is the density of an isotropic 2-D Gaussian fix
     z ~ N(x, R·I) up to a constant factor.
@@ -95,7 +95,7 @@ def gaussian_likelihood(d: ArrayLike, R: float) -> NDArray[np.float64]:
 
 
 def literal_likelihood(d: ArrayLike) -> NDArray[np.float64]:
-    """Eq. 27 as printed, exp(−d): no square, no R (an option; see the module docstring).
+    """Eq. 27 as printed, exp(−d): no square, no R (the default; see the module docstring).
 
     Args:
         d: (N,) distances between the fix and each particle, m.

@@ -78,6 +78,7 @@ from indoorsim.estimators.pdr._checks import non_negative, positive
 
 # dcm and euler_angles are re-exported for the path they had before the split.
 from indoorsim.estimators.pdr.attitude import QuaternionAttitude, dcm, euler_angles
+from indoorsim.estimators.pdr.steps import group_delay_s
 from indoorsim.estimators.pdr.zupt import StationaryDetector, VerticalZuptEKF
 
 __all__ = [
@@ -332,6 +333,14 @@ class GaitDeadReckoning:
     def step_count(self) -> int:
         """Steps reported since the last reset."""
         return self._count
+
+    @property
+    def step_delay_s(self) -> float:
+        """The step filter's group delay at a walking cadence, s (NaN before the
+        rate is known): a step's ``t`` minus this is its trough in the raw a_v."""
+        if self._sos_s is None or self._rate is None:
+            return float("nan")
+        return group_delay_s(self._sos_s, self._rate)
 
     def update(
         self,

@@ -14,11 +14,30 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.signal import butter, sosfilt, sosfilt_zi
+from scipy.signal import butter, group_delay, sos2tf, sosfilt, sosfilt_zi
 
-__all__ = ["STANDARD_GRAVITY", "PeakStepDetector", "Step"]
+__all__ = ["STANDARD_GRAVITY", "WALKING_CADENCE_HZ", "PeakStepDetector", "Step", "group_delay_s"]
 
 STANDARD_GRAVITY = 9.80665  # m/s²
+
+WALKING_CADENCE_HZ = 1.85
+"""A typical walking step rate (REALISM §5: real cadences 1.69–2.01 Hz): the
+frequency at which a step filter's delay is quoted."""
+
+
+def group_delay_s(sos: ArrayLike, rate_hz: float, at_hz: float = WALKING_CADENCE_HZ) -> float:
+    """Group delay of a digital filter (second-order sections) at ``at_hz``, seconds.
+
+    A step found at an extremum of a low-passed signal is reported this late
+    after the feature of the raw signal it stands for (the heel strike's
+    jolt, the trough of the vertical bounce).
+
+    >>> round(group_delay_s(butter(4, 3.0, fs=50.0, output="sos"), 50.0), 3)
+    0.172
+    """
+    b, a = sos2tf(np.asarray(sos, dtype=float))
+    _, delay = group_delay((b, a), w=[at_hz], fs=rate_hz)
+    return float(delay[0]) / rate_hz
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -115,6 +134,7 @@ class PeakStepDetector:
     rate_hz: float | None = None
 
     _sos: NDArray[np.float64] | None = field(default=None, init=False, repr=False, compare=False)
+    _rate_in_use: float = field(default=0.0, init=False, repr=False, compare=False)
     _zi: NDArray[np.float64] | None = field(default=None, init=False, repr=False, compare=False)
     _waiting: list[tuple[NDArray[np.float64], NDArray[np.float64]]] = field(
         default_factory=list, init=False, repr=False, compare=False
@@ -139,6 +159,14 @@ class PeakStepDetector:
             raise ValueError("min_interval_s and min_amplitude_mps2 must be ≥ 0")
         if self.rate_hz is not None and self.rate_hz <= 2 * self.cutoff_hz:
             raise ValueError(f"rate_hz {self.rate_hz} must exceed twice cutoff_hz {self.cutoff_hz}")
+
+    @property
+    def delay_s(self) -> float:
+        """The low-pass filter's group delay at a walking cadence, s (NaN before the
+        first samples fix the rate): a step's ``t`` minus this is the heel strike."""
+        if self._sos is None:
+            return float("nan")
+        return group_delay_s(self._sos, self._rate_in_use)
 
     def reset(self) -> None:
         """Forget everything: the next sample starts a new walk."""
@@ -213,6 +241,7 @@ class PeakStepDetector:
                     f"for a {self.cutoff_hz} Hz low-pass"
                 )
         self._sos = butter(self.order, self.cutoff_hz, fs=rate, output="sos")
+        self._rate_in_use = rate
         self._waiting = []
         return t_all, acc_all
 

@@ -56,15 +56,20 @@ Readings taken where the paper is silent:
   windows' DTW distances with c_i = 1/D_i normalised by Σ c_i (erratum). WiFi
   reference sequences are runs of consecutive reference points along the
   survey path (Li et al. 2016a's profile matching), either direction.
-* **Likelihood (Eq. 27).** Gaussian exp(−d²/2R) by default, ``likelihood=
-  "literal"`` for exp(−d) (PAPER_NOTES, Chen2022 item 6). R — the "noise of
-  the observation equation", whose value the paper does not give — is
-  estimated in ``fit`` per source as the maximum-likelihood isotropic
-  variance of that source's fixes on the labelled training walks,
+* **Likelihood (Eq. 27).** As printed by default (``likelihood="literal"``):
+  q = exp(−‖z − x‖)/(√‖R‖·√(2π)) per source, d = ‖z − x‖ in metres with no
+  square and no R in the exponent (PAPER_NOTES, Chen2022 item 6). Its
+  prefactor is the same for every particle and cancels when the weights are
+  normalised, so R plays no part; the exponential tails are heavy enough
+  that one fix tens of metres off does not wipe out the particles near the
+  truth. ``likelihood="gaussian"`` is the textbook reading exp(−d²/2R). Its
+  R — the "noise of the observation equation", whose value the paper does
+  not give — is estimated in ``fit`` per source as the maximum-likelihood
+  isotropic variance of that source's fixes on the labelled training walks,
   R = mean(d²)/2, d the distance from the fix to the true position at the
   fix's step, floored at (0.5 m)²; without training walks the defaults below
-  hold. Mismatches on those walks make R large, which is the Gaussian model's
-  honest answer to a heavy-tailed error.
+  hold. Mismatches on those walks make R large (11–70 m² on the bundled
+  sites), so the Gaussian filters lean on dead reckoning.
 * **Filter noise.** G_φ and the step-length noise are estimated in ``fit``
   too. G_φ is the random-walk rate of dead reckoning's heading error on the
   training walks: the RMS change of that error over 10 steps, divided by √10
@@ -143,7 +148,7 @@ from indoorsim.estimators.fingerprint.sequences import (
 )
 from indoorsim.estimators.frames import wrap_angle
 from indoorsim.estimators.pdr.gait import GaitDeadReckoning, GaitStep
-from indoorsim.estimators.pipelines.han2023 import match_steps
+from indoorsim.estimators.pipelines.han2023 import match_steps, step_lag_s
 from indoorsim.io.recording import Recording
 from indoorsim.util.seeding import generator
 from indoorsim.windows import Windower
@@ -229,6 +234,9 @@ class FixTracker:
         spacing_m: the metre grid of the magnetic sequences.
         gravity_alpha: per-sample gain of the accelerometer low-pass that
             stands in for a missing gravity stream, 1 − exp(−Δt/τ).
+        step_lag_s: how late dead reckoning times a step after the true step
+            (measured on labelled walks, :func:`calibrate_length_scale`); NaN:
+            the step filter's group delay stands in (:attr:`estimate_time`).
     """
 
     dr: GaitDeadReckoning
@@ -237,6 +245,7 @@ class FixTracker:
     query_steps: int = 16
     spacing_m: float = 0.2
     gravity_alpha: float = 0.02
+    step_lag_s: float = float("nan")
 
     # Per step since the start (the start first): time, distance walked and
     # dead-reckoned displacement, m; kept as far back as a query reaches.
@@ -249,10 +258,19 @@ class FixTracker:
     _scans: list[NDArray[np.float64]] = field(default_factory=list, **_STATE)
     _pending: tuple[float, NDArray[np.float64]] | None = field(default=None, **_STATE)
     _g_lp: NDArray[np.float64] | None = field(default=None, **_STATE)
+    _estimate_time: float = field(default=0.0, **_STATE)
+
+    @property
+    def estimate_time(self) -> float:
+        """The time the latest step's position refers to: the true step its trough
+        stands for (the step's time less ``step_lag_s``, else less the step
+        filter's group delay), s; the start before a step."""
+        return self._estimate_time
 
     def reset(self, t0: float, heading: float) -> None:
         """Start an episode at time t0 (s) walking along ``heading`` (rad from +x)."""
         self.dr.reset(heading)
+        self._estimate_time = float(t0)
         # The start is the distance axis' anchor: 0 m walked, no displacement.
         self._t_steps = np.array([t0])
         self._s_steps = np.zeros(1)
@@ -278,6 +296,8 @@ class FixTracker:
         gyro = obs["gyro"][valid] if present["gyro"] else None
         for step in self.dr.update(t, acc, gyro, gravity=gravity):
             self._add_step(step)
+            lag = self.step_lag_s if np.isfinite(self.step_lag_s) else self.dr.step_delay_s
+            self._estimate_time = float(step.t) - lag
             out.append(StepFixes(step, self._magnetic_fix(), self._wifi_fix(step.t)))
         self._forget()
         return out
@@ -478,7 +498,7 @@ def replay_dr(dr: GaitDeadReckoning, rec: Recording) -> list[GaitStep]:
     )
 
 
-def calibrate_length_scale(dr: GaitDeadReckoning, train: Sequence[Recording]) -> None:
+def calibrate_length_scale(dr: GaitDeadReckoning, train: Sequence[Recording]) -> float:
     """Fit ``dr``'s length scale on its detected steps paired with the true steps.
 
     Steps are paired by time (:func:`~indoorsim.estimators.pipelines.han2023.match_steps`);
@@ -487,19 +507,26 @@ def calibrate_length_scale(dr: GaitDeadReckoning, train: Sequence[Recording]) ->
     Args:
         dr: the dead reckoning to calibrate (in place).
         train: labelled walks (:func:`labelled_walks`).
+
+    Returns:
+        How late dead reckoning times a step after the true one, the median over
+        the walks of :func:`~indoorsim.estimators.pipelines.han2023.step_lag_s`,
+        s (NaN without a walk to tell).
     """
     matched: list[GaitStep] = []
     lengths: list[NDArray[np.float64]] = []
+    lags: list[float] = []
     for rec in train:
-        s, lens = match_steps(
-            replay_dr(dr, rec),
-            rec.steps.index.to_numpy(dtype=float),
-            rec.steps["length"].to_numpy(float),
-        )
+        steps = replay_dr(dr, rec)
+        true_t = rec.steps.index.to_numpy(dtype=float)
+        s, lens = match_steps(steps, true_t, rec.steps["length"].to_numpy(float))
         matched += s
         lengths.append(lens)
+        lags.append(step_lag_s([st.t for st in steps], true_t))
     if len(matched) >= _MIN_SAMPLES:
         dr.calibrate(matched, np.concatenate(lengths))
+    lags = [lag for lag in lags if np.isfinite(lag)]
+    return float(np.median(lags)) if lags else float("nan")
 
 
 @dataclass(frozen=True)
@@ -682,6 +709,11 @@ class Chen2022FrontEnd:
         """Steps dead reckoning detected this episode."""
         return int(self.dr.step_count)
 
+    @property
+    def estimate_time(self) -> float | None:
+        """The time the position refers to: the last step's (:class:`FixTracker`), s."""
+        return None if self._tracker is None else self._tracker.estimate_time
+
     # ---------------------------------------------------------------------- fit
 
     def _matchers(self) -> tuple[MagneticSequenceMatcher | None, WifiSequenceMatcher | None]:
@@ -733,7 +765,7 @@ class Chen2022FrontEnd:
         self.sigma_step_m, self.sigma_heading_rad = DEFAULT_SIGMA_STEP_M, DEFAULT_SIGMA_HEADING_RAD
         labelled = labelled_walks(train)
         if self.calibrate and labelled:
-            calibrate_length_scale(self.dr, labelled)
+            self._tracker.step_lag_s = calibrate_length_scale(self.dr, labelled)
             self._calibrate_noise(site, labelled)
 
     def _calibrate_noise(self, site: SiteContext, train: Sequence[Recording]) -> None:
@@ -824,7 +856,7 @@ class Chen2022Cpf(Chen2022FrontEnd):
         use_magnetic: fuse magnetic fixes (q_MM).
         use_wifi: fuse WiFi fixes (q_WiFi).
         matcher: ``"hv-ddtw"`` (Alg. 1) or ``"md-dtw"`` (raw HV values; Fig. 8).
-        likelihood: ``"gaussian"`` exp(−d²/2R) or ``"literal"`` exp(−d) (Eq. 27).
+        likelihood: ``"literal"`` exp(−d) as Eq. 27 prints it, or ``"gaussian"`` exp(−d²/2R).
         n_particles: particles of the filter.
         ess_threshold: resample when N_eff < ess_threshold·N.
         particle_filter: during and after an episode, the filter and its particles.
@@ -836,7 +868,7 @@ class Chen2022Cpf(Chen2022FrontEnd):
     use_magnetic: bool = True
     use_wifi: bool = True
     matcher: Literal["hv-ddtw", "md-dtw"] = "hv-ddtw"
-    likelihood: Literal["gaussian", "literal"] = "gaussian"
+    likelihood: Literal["gaussian", "literal"] = "literal"
     n_particles: int = 1000
     ess_threshold: float = 0.5
     particle_filter: ParticleFilter | None = field(
@@ -896,7 +928,7 @@ class Chen2022Cpf(Chen2022FrontEnd):
             out = np.ones(len(x))
             for z, r in fixes:
                 d = np.linalg.norm(x - z, axis=1)
-                # (27) q = exp(−d²/2R) (default reading) or exp(−d) (as printed); (28) product
+                # (27) q ∝ exp(−d) (as printed, default) or exp(−d²/2R); (28) product
                 out *= (
                     gaussian_likelihood(d, r)
                     if self.likelihood == "gaussian"

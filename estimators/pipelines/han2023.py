@@ -52,7 +52,7 @@ from typing import ClassVar
 
 import numpy as np
 import pandas as pd
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from indoorsim.estimators.base import (
     NotApplicableError,
@@ -89,13 +89,37 @@ __all__ = [
     "PlainBP",
     "TentAsoBPStatic",
     "match_steps",
+    "step_lag_s",
 ]
+
+# Layer 2's inputs: the paper's, and PDR alone (what the network learns from the route).
+LAYER2_INPUTS = ("gml+pdr", "pdr")
 
 # Table 1's heading methods, in the paper's column order.
 HEADING_METHODS = ("bkf", "kf", "mag", "gyro")
 
 # How far back the heading history reaches for steps confirmed late, s.
 _HISTORY_S = 5.0
+
+
+def step_lag_s(t_detected: ArrayLike, true_t: ArrayLike) -> float:
+    """How long after a true step its detection is timed: the median, over the
+    detected steps, of the time since the latest true step (NaN with none before).
+
+    A detector times a step at a feature of a filtered signal (the peak of the
+    low-passed ‖a‖, the trough of the vertical bounce), a roughly constant
+    lag after the step's event (the heel strike) that labelled walks measure.
+
+    >>> round(step_lag_s([1.2, 1.8, 2.4], [1.0, 1.6, 2.2]), 3)
+    0.2
+    """
+    t_det = np.asarray(t_detected, dtype=float)
+    t_true = np.asarray(true_t, dtype=float)
+    before = np.searchsorted(t_true, t_det, side="right") - 1
+    ok = before >= 0
+    if not ok.any():
+        return float("nan")
+    return float(np.median(t_det[ok] - t_true[before[ok]]))
 
 
 def match_steps(
@@ -117,10 +141,9 @@ def match_steps(
         return [], np.empty(0)
     tol = 0.5 * float(np.median(np.diff(true_t)))
     t_det = np.array([s.t for s in steps])
-    before = np.searchsorted(true_t, t_det, side="right") - 1
-    ok = before >= 0
-    if ok.any():
-        t_det = t_det - float(np.median(t_det[ok] - true_t[before[ok]]))
+    lag = step_lag_s(t_det, true_t)
+    if np.isfinite(lag):
+        t_det = t_det - lag
     idx = np.clip(np.searchsorted(true_t, t_det), 1, len(true_t) - 1)
     left, right = true_t[idx - 1], true_t[idx]
     nearest = np.where(np.abs(t_det - left) <= np.abs(t_det - right), idx - 1, idx)
@@ -163,6 +186,9 @@ class Han2023Pdr:
             window and the known start heading — for real logs whose map
             is not tied to north.
         k_fitted: after ``fit``, the K in use.
+        step_lag_fitted: after ``fit``, how late the detector times a step
+            after its heel strike on the training walks, s (NaN without
+            labelled steps: the filter's group delay stands in).
         step_log: this episode's detected steps as (peak time s, heading rad
             unwrapped, length m), for per-step scoring (Table 1).
     """
@@ -180,6 +206,7 @@ class Han2023Pdr:
     mag_frame: str = "site"
 
     k_fitted: float = field(default=WEINBERG_K, init=False, compare=False)
+    step_lag_fitted: float = field(default=float("nan"), init=False, compare=False)
     _mag_to_building: float = field(default=0.0, init=False, repr=False, compare=False)
     _site_mag_offset: float = field(default=0.0, init=False, repr=False, compare=False)
     _align_pending: bool = field(default=False, init=False, repr=False, compare=False)
@@ -194,6 +221,7 @@ class Han2023Pdr:
         default=None, init=False, repr=False, compare=False
     )
     _steps: int = field(default=0, init=False, repr=False, compare=False)
+    _estimate_time: float = field(default=0.0, init=False, repr=False, compare=False)
     _hist_t: NDArray[np.float64] = field(
         default_factory=lambda: np.empty(0), init=False, repr=False, compare=False
     )
@@ -227,14 +255,22 @@ class Han2023Pdr:
         """Steps detected since the episode's start."""
         return self._steps
 
+    @property
+    def estimate_time(self) -> float:
+        """The time the position refers to: the last step's heel strike (its peak
+        time less the lag measured in ``fit``, else the filter's group delay; the
+        start before a step), s."""
+        return self._estimate_time
+
     def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
-        """Calibrate K on the training walks' true steps (default K without any)."""
+        """Calibrate K on the training walks' true steps (default K without any), and
+        measure there how late the detector times a step (:attr:`estimate_time`)."""
         self._site_mag_offset = site.magnetic_to_building_rad
         self.k_fitted = self.weinberg_k
-        if not self.calibrate:
-            return
+        self.step_lag_fitted = float("nan")
         matched: list[Step] = []
         lengths: list[NDArray[np.float64]] = []
+        lags: list[float] = []
         for rec in train:
             true = rec.streams.get("steps")
             accel = rec.streams.get("accel")
@@ -242,12 +278,15 @@ class Han2023Pdr:
                 continue
             det = PeakStepDetector(min_interval_s=self.min_interval_s)
             steps = det.update(accel.index.to_numpy(dtype=float), accel[["x", "y", "z"]].to_numpy())
-            s, lens = match_steps(
-                steps, true.index.to_numpy(dtype=float), true["length"].to_numpy(dtype=float)
-            )
+            true_t = true.index.to_numpy(dtype=float)
+            s, lens = match_steps(steps, true_t, true["length"].to_numpy(dtype=float))
             matched += s
             lengths.append(lens)
-        if matched:
+            lags.append(step_lag_s([st.t for st in steps], true_t))
+        lags = [lag for lag in lags if np.isfinite(lag)]
+        if lags:
+            self.step_lag_fitted = float(np.median(lags))
+        if matched and self.calibrate:
             try:
                 self.k_fitted = calibrate_k(matched, np.concatenate(lengths))
             except ValueError:
@@ -256,6 +295,7 @@ class Han2023Pdr:
     def reset(self, start: StartInfo) -> None:
         self._position = np.array(start.position, dtype=float)
         self._steps = 0
+        self._estimate_time = float(start.t0)
         self.step_log = []
         self._heading = float(start.heading)
         self._mag_to_building = self._site_mag_offset
@@ -329,6 +369,10 @@ class Han2023Pdr:
             length = weinberg([s.a_max for s in steps], [s.a_min for s in steps], self.k_fitted)
             self.step_log += zip(t_steps, phi.tolist(), length.tolist(), strict=True)
             self._position += np.array([length @ np.cos(phi), length @ np.sin(phi)])
+            lag = self.step_lag_fitted
+            if not np.isfinite(lag):
+                lag = self._detector.delay_s
+            self._estimate_time = t_steps[-1] - lag
         return self._position.copy()
 
 
@@ -399,6 +443,13 @@ class Han2023GML:
     _position: NDArray[np.float64] | None = field(
         default=None, init=False, repr=False, compare=False
     )
+    _estimate_time: float = field(default=0.0, init=False, repr=False, compare=False)
+
+    @property
+    def estimate_time(self) -> float:
+        """The time the position refers to: the mean time of the fresh magnetometer
+        samples it was computed from (the start before any), s."""
+        return self._estimate_time
 
     def _new_network(self) -> TentAsoBP:
         return TentAsoBP(
@@ -438,6 +489,7 @@ class Han2023GML:
 
     def reset(self, start: StartInfo) -> None:
         self._position = np.array(start.position, dtype=float)
+        self._estimate_time = float(start.t0)
 
     def window_features(self, obs: Observation) -> NDArray[np.float64] | None:
         """The window's feature vector, or None without a fresh, rotatable magnetometer sample."""
@@ -462,6 +514,8 @@ class Han2023GML:
         f = self.window_features(obs)
         if f is not None:
             self._position = self.predict(f[None, :])[0]
+            fresh = obs["valid"].astype(bool) & obs["mag_fresh"].astype(bool)
+            self._estimate_time = float(obs["t"][fresh].mean())
         return self._position.copy()
 
 
@@ -529,9 +583,19 @@ class Han2023Fusion:
     and trains the network on their answers against the true position at
     each window's end.
 
+    Which walks train layer 2 is the evaluation protocol's choice (the paper
+    does not say; PAPER_NOTES, Han2023 item 9): walks of other routes, or of
+    the test route by other seeds (``evaluate(..., train_routes="same")``).
+    On the same route the network can learn the route itself — where along
+    it a PDR answer lies and how PDR drifts there — rather than how to weigh
+    two position sources; ``layer2_inputs="pdr"`` trains it on the PDR
+    answer alone, which shows how much of its accuracy is that.
+
     Attributes:
         pdr: the PDR (its parameters).
         gml: layer 1 (its parameters).
+        layer2_inputs: ``"gml+pdr"`` (the paper's 4-D input) or ``"pdr"``
+            ((x_PDR, y_PDR) only: a diagnostic of what layer 2 learns).
         population: layer-2 ASO atoms.
         iterations: layer-2 ASO iterations.
         epochs: layer-2 BP epochs.
@@ -543,6 +607,7 @@ class Han2023Fusion:
 
     pdr: Han2023Pdr = field(default_factory=Han2023Pdr)
     gml: Han2023GML = field(default_factory=Han2023GML)
+    layer2_inputs: str = "gml+pdr"
     population: int = 30
     iterations: int = 500
     epochs: int = 1000
@@ -550,6 +615,12 @@ class Han2023Fusion:
     fit_seed: int = 0
 
     network: TentAsoBP | None = field(default=None, init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if self.layer2_inputs not in LAYER2_INPUTS:
+            raise ValueError(
+                f"layer2_inputs must be one of {LAYER2_INPUTS}, got {self.layer2_inputs!r}"
+            )
 
     @property
     def heading(self) -> float:
@@ -568,7 +639,8 @@ class Han2023Fusion:
             NotApplicableError: without a grid survey, or without a training
                 walk with a truth stream.
         """
-        self.gml.fit(site, train)
+        if self.layer2_inputs != "pdr":
+            self.gml.fit(site, train)
         self.pdr.fit(site, train)
         inputs, targets = self.layer_two_data(site, train)
         self.network = TentAsoBP(
@@ -584,8 +656,9 @@ class Han2023Fusion:
         """Layer 2's training set: the fitted PDR and layer 1 replayed on the training walks.
 
         Returns:
-            (N, 4) inputs (x_GML, y_GML, x_PDR, y_PDR) at each window's end and
-            (N, 2) true positions there.
+            (N, 4) inputs (x_GML, y_GML, x_PDR, y_PDR) at each window's end
+            ((N, 2) (x_PDR, y_PDR) with ``layer2_inputs="pdr"``) and (N, 2)
+            true positions there.
 
         Raises:
             NotApplicableError: without a training walk with a truth stream.
@@ -596,11 +669,10 @@ class Han2023Fusion:
             if start is None or "accel" not in rec.streams or not len(rec.accel):
                 continue
             windows = Windower(rec, site.window_samples, site.bssids)
-            self.pdr.reset(start)
-            self.gml.reset(start)
+            self.reset(start)
             ends = np.array([windows.end_time(i) for i in range(len(windows))])
             for obs in windows:
-                inputs.append(np.r_[self.gml.act(obs), self.pdr.act(obs)])
+                inputs.append(self._inputs(obs))
             ts = rec.truth.index.to_numpy(dtype=float)
             targets.append(
                 np.column_stack([np.interp(ends, ts, rec.truth[c].to_numpy(float)) for c in "xy"])
@@ -618,5 +690,11 @@ class Han2023Fusion:
     def act(self, obs: Observation) -> NDArray[np.float64]:
         if self.network is None:
             raise RuntimeError(f"{self.name}: call fit(site, train) first")
-        z = np.r_[self.gml.act(obs), self.pdr.act(obs)]
-        return self.network.predict(z[None, :])[0]
+        return self.network.predict(self._inputs(obs)[None, :])[0]
+
+    def _inputs(self, obs: Observation) -> NDArray[np.float64]:
+        """Layer 2's input for the window: both layers' answers, or PDR's alone."""
+        pdr = self.pdr.act(obs)
+        if self.layer2_inputs == "pdr":
+            return pdr
+        return np.r_[self.gml.act(obs), pdr]

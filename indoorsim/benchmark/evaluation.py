@@ -5,13 +5,31 @@ For a scenario and a seed (DESIGN §8–§10):
 1. **Site context** — the floor plan and the fingerprint databases of every
    survey plan in the scenario, measured with the *survey* phone
    (:func:`site_context`), plus the site's frames.
-2. **Training walks** — labelled recordings on the scenario's other routes
-   (or the same route with other seeds when it has only one), walked with the
-   walking phone (:func:`training_walks`).
+2. **Training walks** — labelled recordings walked with the walking phone
+   (:func:`training_walks`): by default on the scenario's other routes (or
+   the same route with other seeds when it has only one); with
+   ``train_routes="same"``, walks of the test route itself by other seeds
+   (another walker, another day on the same path: the protocol a paper that
+   trains on "the" route most likely used).
 3. **Test episodes** — one simulated walk per test seed; the estimator is
    reset with the start position and heading (:func:`start_info`) and then
    acts on each observation window in turn (:func:`run_episode`). Truth is
    read only to score an action after it has been taken.
+
+Scoring, two ways (both in every row):
+
+* **time-uniform** (``ae``, ``rmse``, …; the leaderboard's): the answer at
+  each window's end against the truth at that instant — what a user of the
+  position meets, so an estimate held since the last step counts as late;
+* **at the time the estimate refers to** (``ae_reftime``, …; the papers'
+  per-step protocol, used by the paper tables): each distinct estimate once,
+  against the truth at the time it stands for. An estimator says that time
+  with an optional ``estimate_time`` attribute (s, read after each ``act``):
+  a step estimator its last step's heel strike or trough, a fingerprint
+  estimator the mean time of the samples it matched. Without it, the
+  window's end. This is the runner's only new contract: the env's
+  observation, action and info are unchanged (an env step still scores the
+  answer at the window's end).
 
 The same episode loop runs on real recordings, scored wherever they carry
 true positions (:func:`true_positions_at`).
@@ -34,7 +52,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from indoorsim._version import __version__
 from indoorsim.benchmark import metrics
@@ -107,6 +125,10 @@ def site_context(
     )
 
 
+TRAIN_ROUTES = ("other", "same")
+"""Which routes the training walks follow (:func:`training_walks`)."""
+
+
 def training_walks(
     site: Site,
     test_route: str,
@@ -115,9 +137,19 @@ def training_walks(
     device: str,
     n: int = 2,
     seed: int = TRAIN_SEED,
+    routes: str = "other",
 ) -> list[Recording]:
-    """Labelled walks for training: the scenario's other routes, else other seeds of the same."""
-    others = [r for r in site.scenario.routes if r != test_route] or [test_route]
+    """Labelled walks for training, by seeds no test episode uses.
+
+    Args:
+        routes: ``"other"``: the scenario's other routes in turn (the test
+            route itself when it has no other); ``"same"``: the test route.
+    """
+    if routes not in TRAIN_ROUTES:
+        raise ValueError(f"train routes must be one of {TRAIN_ROUTES}, got {routes!r}")
+    others = [r for r in site.scenario.routes if r != test_route]
+    if routes == "same" or not others:
+        others = [test_route]
     return [
         simulate(site, route=others[k % len(others)], mode=mode, device=device, seed=seed + k)
         for k in range(n)
@@ -166,7 +198,8 @@ def true_headings_at(recording: Recording, t: NDArray[np.float64]) -> NDArray[np
 class EpisodeResult:
     """One episode: per window, the time, the estimate and the latency of ``act``.
 
-    ``heading`` (rad, NaN where the estimator exposes none) and ``step_count``
+    ``heading`` (rad, NaN where the estimator exposes none), ``t_ref`` (the
+    window's end where it exposes no ``estimate_time``) and ``step_count``
     (None if it exposes none) come from the estimator's optional attributes.
     """
 
@@ -174,13 +207,34 @@ class EpisodeResult:
     estimate: NDArray[np.float64]
     latency_s: NDArray[np.float64]
     heading: NDArray[np.float64]
+    t_ref: NDArray[np.float64]
+    """The time each window's estimate refers to, s (≤ the window's end)."""
     step_count: int | None = None
     t_start: float = 0.0
     """Time of the episode's first sensor sample, s."""
 
     def frame(self) -> pd.DataFrame:
         x, y = self.estimate.T
-        return pd.DataFrame({"t": self.t, "x": x, "y": y, "latency_s": self.latency_s})
+        return pd.DataFrame(
+            {"t": self.t, "x": x, "y": y, "t_ref": self.t_ref, "latency_s": self.latency_s}
+        )
+
+    @property
+    def new_estimates(self) -> NDArray[np.intp]:
+        """Indices of the windows whose estimate refers to a new time (each estimate once)."""
+        return new_estimate_rows(self.t_ref)
+
+
+def new_estimate_rows(t_ref: ArrayLike) -> NDArray[np.intp]:
+    """Rows whose reference time differs from the row before (the first row always).
+
+    >>> new_estimate_rows([1.0, 1.0, 2.5, 3.0, 3.0]).tolist()
+    [0, 2, 3]
+    """
+    t = np.asarray(t_ref, dtype=float)
+    if not len(t):
+        return np.empty(0, dtype=np.intp)
+    return np.flatnonzero(np.r_[True, t[1:] != t[:-1]])
 
 
 def run_episode(
@@ -194,6 +248,7 @@ def run_episode(
     est = np.empty((n, 2))
     lat = np.empty(n)
     heading = np.full(n, np.nan)
+    t_ref = np.empty(n)
     for k in range(n):
         obs = windows.window(k)
         t0 = time.perf_counter()
@@ -210,6 +265,7 @@ def run_episode(
         h = getattr(estimator, "heading", None)
         if h is not None:
             heading[k] = float(h)
+        t_ref[k] = _estimate_time(estimator, t[k], k)
     steps = getattr(estimator, "step_count", None)
     return EpisodeResult(
         t_start=float(windows.t[0]),
@@ -217,8 +273,26 @@ def run_episode(
         estimate=est,
         latency_s=lat,
         heading=heading,
+        t_ref=t_ref,
         step_count=None if steps is None else int(steps),
     )
+
+
+def _estimate_time(estimator: Estimator, t_end: float, k: int) -> float:
+    """The time the estimator's answer refers to: its ``estimate_time``, else the window's end."""
+    value = getattr(estimator, "estimate_time", None)
+    if value is None:
+        return t_end
+    t = float(value)
+    # A filter's delay subtracted from the first samples' step can fall just before t0; a
+    # time after the window's end would claim knowledge of the future.
+    if not np.isfinite(t) or t > t_end + 1e-9:
+        name = getattr(estimator, "name", estimator)
+        raise ValueError(
+            f"estimator {name!r} reported estimate_time {value!r} at window {k}, "
+            f"which ends at {t_end:.3f} s; expected a finite time no later than that"
+        )
+    return t
 
 
 def fit_timed(estimator: Estimator, context: SiteContext, train: Sequence[Recording]) -> float:
@@ -238,7 +312,7 @@ class WalkResult:
     """One scored walk: estimates beside the truth, and its metrics."""
 
     seed: int
-    estimates: pd.DataFrame  # t, x, y, true_x, true_y
+    estimates: pd.DataFrame  # t, x, y, t_ref, true_x, true_y (at t), true_x_ref, true_y_ref
     metrics: dict[str, float]
 
 
@@ -286,6 +360,9 @@ def _score(
         in_episode = (rec.steps.index >= result.t_start) & (rec.steps.index <= result.t[-1])
         extra["n_steps_est"] = result.step_count
         extra["n_steps_true"] = int(in_episode.sum())
+    rows = result.new_estimates
+    extra["ref_est_xy"] = result.estimate[rows]
+    extra["ref_true_xy"] = true_positions_at(rec, result.t_ref[rows])
     return metrics.summarize(
         result.estimate,
         truth_xy,
@@ -307,12 +384,14 @@ def evaluate(
     survey_device: str = "honor_50",
     window_s: float = 1.0,
     n_train: int = 2,
+    train_routes: str = "other",
     params: dict[str, Any] | None = None,
     progress: Progress | None = None,
 ) -> Evaluation:
     """Score ``estimator`` (a registered name or ``module:Class``) over ``seeds``.
 
-    ``params`` go to the estimator's constructor.
+    ``params`` go to the estimator's constructor; ``train_routes`` says which
+    routes the training walks follow (:func:`training_walks`).
 
     Raises:
         UnknownRouteError: ``route`` is not one of the scenario's routes.
@@ -324,7 +403,9 @@ def evaluate(
     schedule = ModeSchedule.of(mode)
     ctx = site_context(site, device=device, survey_device=survey_device, window_s=window_s)
     est = make(estimator, **(params or {}))
-    train = training_walks(site, route, mode=schedule, device=device, n=n_train)
+    train = training_walks(
+        site, route, mode=schedule, device=device, n=n_train, routes=train_routes
+    )
     config = {
         "env_id": env_id(site.name),
         "route": route,
@@ -332,6 +413,7 @@ def evaluate(
         "survey_device": survey_device,
         "window_s": window_s,
         "n_train": n_train,
+        "train_routes": train_routes,
         "params": json.dumps(params or {}, sort_keys=True),
         "package_version": __version__,
         "git_revision": git_revision(),
@@ -348,8 +430,10 @@ def evaluate(
         rec = simulate(site, route=route, mode=schedule, device=device, seed=seed)
         res = run_episode(est, rec, ctx, start_info(rec, seed))
         truth_xy = true_positions_at(rec, res.t)
+        ref_xy = true_positions_at(rec, res.t_ref)
         frame = res.frame().drop(columns="latency_s")
         frame["true_x"], frame["true_y"] = truth_xy[:, 0], truth_xy[:, 1]
+        frame["true_x_ref"], frame["true_y_ref"] = ref_xy[:, 0], ref_xy[:, 1]
         score = _score(res, rec, plan=site.plan, train_time_s=train_s)
         ev.walks.append(WalkResult(seed=seed, estimates=frame, metrics=score))
     return ev

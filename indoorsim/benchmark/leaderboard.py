@@ -197,7 +197,9 @@ def run_leaderboard(
     if config.paper_experiments:
         from indoorsim.benchmark.reproduce import chen2022, han2023
 
-        han2023.write_report(out, tables, device=config.device, progress=progress)
+        han2023.write_report(
+            out, trajectory_seeds=config.seeds, device=config.device, progress=progress
+        )
         chen2022.write_report(out, tables, device=config.device, progress=progress)
     if config.real_data and (real / ILC_TRACES).is_dir():
         tables["real_data"] = write_real_data(out, real / ILC_TRACES, progress=progress)

@@ -35,6 +35,11 @@ JUMP_BACK_THRESHOLD_M = 1.0
 """Default backward along-track move (m) that counts as a jump-back: above one
 0.6 m step, so a single step's worth of jitter is not counted."""
 
+REFTIME_KEYS: tuple[str, ...] = ("ae", "rmse", "me", "min", "sd", "cep50", "cep75", "cep95", "n")
+"""The error statistics also given per estimate at the time it refers to (:func:`summarize`)."""
+
+REFTIME_SUFFIX = "_reftime"
+
 SUMMARY_KEYS: tuple[str, ...] = (
     "ae",
     "rmse",
@@ -57,6 +62,7 @@ SUMMARY_KEYS: tuple[str, ...] = (
     "latency_ms_mean",
     "latency_ms_p95",
     "train_time_s",
+    *(f"{k}{REFTIME_SUFFIX}" for k in REFTIME_KEYS),
 )
 """The columns of a :func:`summarize` row, in order (DESIGN.md §10)."""
 
@@ -482,6 +488,8 @@ def summarize(
     n_steps_true: int | None = None,
     latencies: ArrayLike | None = None,
     train_time_s: float | None = None,
+    ref_est_xy: ArrayLike | None = None,
+    ref_true_xy: ArrayLike | None = None,
 ) -> dict[str, float]:
     """One leaderboard row: every metric of one walk, keyed by :data:`SUMMARY_KEYS`.
 
@@ -499,7 +507,13 @@ def summarize(
     * ``wall_crossings`` ← ``plan`` (:func:`wall_crossings`);
     * ``latency_ms_mean``, ``latency_ms_p95`` ← ``latencies``, seconds per
       step (:func:`latency_stats`);
-    * ``train_time_s`` ← ``train_time_s``, seconds.
+    * ``train_time_s`` ← ``train_time_s``, seconds;
+    * ``ae_reftime`` … ``n_reftime`` (:data:`REFTIME_KEYS`) ← ``ref_est_xy``
+      and ``ref_true_xy``: :func:`error_stats` of each distinct estimate
+      against the truth at the time it refers to (a step estimator's last
+      step), the papers' per-step errors. ``est_xy``/``true_xy`` are the
+      time-uniform ones: the answer at every window's end against the truth
+      then, as a user of the position would meet it.
 
     Every value is a float (counts are whole numbers), so a column keeps one
     dtype whether or not its input was given.
@@ -514,6 +528,8 @@ def summarize(
         n_steps_true: number of true steps.
         latencies: (K,) estimator run time per step, s.
         train_time_s: estimator training (or calibration) time, s.
+        ref_est_xy: (M, 2) each distinct estimate once, m.
+        ref_true_xy: (M, 2) the true positions at the times those refer to, m.
 
     Returns:
         The row, keys exactly :data:`SUMMARY_KEYS`.
@@ -531,6 +547,10 @@ def summarize(
     row["jump_backs"] = jump_backs(est_xy, true_xy)
     _given_together(est_heading, true_heading, "est_heading", "true_heading")
     _given_together(n_steps_est, n_steps_true, "n_steps_est", "n_steps_true")
+    _given_together(ref_est_xy, ref_true_xy, "ref_est_xy", "ref_true_xy")
+    if ref_est_xy is not None and ref_true_xy is not None:
+        stats = error_stats(position_errors(ref_est_xy, ref_true_xy))
+        row.update({f"{k}{REFTIME_SUFFIX}": stats[k] for k in REFTIME_KEYS})
     if est_heading is not None and true_heading is not None:
         heading = heading_stats(heading_errors(est_heading, true_heading))
         row["heading_mae_deg"] = heading["heading_mae_deg"]

@@ -95,6 +95,13 @@ def add_evaluate(subparsers: Subparsers) -> None:
     parser.add_argument(
         "--window", type=positive(float), default=1.0, metavar="S", help="window length, s"
     )
+    parser.add_argument(
+        "--train-routes",
+        choices=("other", "same"),
+        default="other",
+        help="routes of the labelled training walks: the scenario's other routes "
+        "(default) or the test route by other seeds",
+    )
     parser.add_argument("--out", type=Path, required=True, metavar="DIR")
     parser.add_argument(
         "--fail-above",
@@ -154,6 +161,7 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                 device=args.device,
                 survey_device=args.survey_device,
                 window_s=args.window,
+                train_routes=args.train_routes,
                 progress=lambda _msg: bar.update(1),  # called as each seed's walk starts
             )
         if ev.note:

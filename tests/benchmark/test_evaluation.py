@@ -97,6 +97,90 @@ def test_training_walks_use_other_routes_and_seeds():
     assert len({w.meta["seed"] for w in walks}) == 2 and all(w.has_truth for w in walks)
 
 
+def test_same_route_training_walks_are_the_test_route_by_seeds_no_test_uses():
+    """Han2023's likely layer-2 protocol: the same route, but never a test walk."""
+    site = indoorsim.load_site("han2023_corridor")
+    walks = training_walks(site, "trajectory", mode="handheld", device="ideal", n=2, routes="same")
+    assert {w.meta["route"]["name"] for w in walks} == {"trajectory"}
+    seeds = {w.meta["seed"] for w in walks}
+    assert len(seeds) == 2 and min(seeds) >= 2**31  # test seeds are drawn below 2**31
+    test = indoorsim.simulate.simulate(site, route="trajectory", device="ideal", seed=0)
+    for w in walks:
+        n = min(len(w.accel), len(test.accel))
+        assert not np.array_equal(w.accel.to_numpy()[:n], test.accel.to_numpy()[:n])
+    with pytest.raises(ValueError, match="train routes must be one of"):
+        training_walks(site, "trajectory", mode="handheld", device="ideal", routes="both")
+
+
+class _LateOracle:
+    """Answers the exact true position of ``lag_s`` before each window's end, and says so."""
+
+    name = "late-oracle"
+    lag_s = 0.5
+
+    def __init__(self, rec: Recording):
+        self.truth = rec.truth
+
+    def fit(self, site, train):
+        pass
+
+    def reset(self, start):
+        self.estimate_time = None
+
+    def act(self, obs):
+        self.estimate_time = float(obs["t"][-1]) - self.lag_s
+        ts = self.truth.index.to_numpy(dtype=float)
+        return np.array(
+            [np.interp(self.estimate_time, ts, self.truth[c].to_numpy(float)) for c in "xy"]
+        )
+
+
+def test_an_exact_but_late_estimate_scores_zero_at_the_time_it_refers_to():
+    """Closed form: the truth of half a second ago is exact at its own time, and
+    late by the distance walked in half a second at the window's end."""
+    from indoorsim.benchmark.evaluation import _score, site_context
+
+    site = indoorsim.load_site("han2023_corridor")
+    rec = indoorsim.simulate.simulate(site, route="trajectory", device="ideal", seed=0)
+    ctx = site_context(site, device="ideal")
+    est = _LateOracle(rec)
+    res = run_episode(est, rec, ctx, start_info(rec))
+    np.testing.assert_allclose(res.t_ref, res.t - 0.5)
+    m = _score(res, rec, plan=None, train_time_s=0.0)
+    assert m["ae_reftime"] < 1e-9 and m["n_reftime"] == len(res.t)
+    walked = np.hypot(*np.diff(rec.truth[["x", "y"]].to_numpy(), axis=0).T).sum()
+    speed = walked / (rec.truth.index[-1] - rec.truth.index[0])
+    assert m["ae"] == pytest.approx(0.5 * speed, rel=0.25)
+
+
+def test_an_estimate_time_after_the_window_is_refused_with_the_estimator_named():
+    site = indoorsim.load_site("minimal_room")
+    rec = indoorsim.simulate.simulate(site, route="main", device="ideal", seed=0)
+    est = _LateOracle(rec)
+    est.lag_s = -1.0  # claims to know where the walker will be in a second
+    ctx = SiteContext(name="m", window_samples=50)
+    with pytest.raises(ValueError, match=r"late-oracle.*estimate_time .*window 0"):
+        run_episode(est, rec, ctx, start_info(rec))
+
+
+@pytest.mark.parametrize("name", ["han2023-pdr", "dr-mm"])
+def test_a_step_estimate_refers_to_the_true_step_it_stands_for(name):
+    """A step estimator's estimate_time is its last step, less the lag measured on the
+    training walks: within a few hundredths of a second of the true step events."""
+    from indoorsim.benchmark.evaluation import site_context
+
+    site = indoorsim.load_site("chen2022_lab")
+    ctx = site_context(site, device="ideal")
+    est = make(name)
+    est.fit(ctx, training_walks(site, "walk", mode="handheld", device="ideal", n=1))
+    rec = indoorsim.simulate.simulate(site, route="walk", device="ideal", seed=0)
+    res = run_episode(est, rec, ctx, start_info(rec))
+    t_ref = res.t_ref[res.new_estimates][1:]  # the first is the start
+    true_t = rec.steps.index.to_numpy(dtype=float)
+    nearest = np.abs(t_ref[:, None] - true_t[None, :]).min(axis=1)
+    assert len(t_ref) > 20 and np.median(nearest) < 0.05, np.median(nearest)
+
+
 @pytest.mark.skipif(not ILC.is_dir(), reason="shared real data not found beside the repository")
 def test_real_recording_starts_at_its_first_waypoint_heading_to_the_second():
     rec = Recording.load(next(iter(sorted(ILC.glob("*.txt")))))
@@ -111,7 +195,10 @@ def test_start_only_error_is_the_distance_from_the_start():
     site = indoorsim.load_site("minimal_room")
     ev = evaluate("start-only", site, seeds=(0,), device="ideal", n_train=1)
     walk = ev.walks[0].estimates
-    assert list(walk.columns) == ["t", "x", "y", "true_x", "true_y"]
+    assert list(walk.columns) == [
+        "t", "x", "y", "t_ref", "true_x", "true_y", "true_x_ref", "true_y_ref"
+    ]  # fmt: skip
+    assert (walk["t_ref"] == walk["t"]).all()  # no estimate_time: the window's end
     start = walk[["x", "y"]].to_numpy()
     assert np.allclose(start, start[0])
     err = np.hypot(walk["true_x"] - walk["x"], walk["true_y"] - walk["y"])

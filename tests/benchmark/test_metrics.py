@@ -51,7 +51,9 @@ ROW_KEYS = [
     "latency_ms_mean",
     "latency_ms_p95",
     "train_time_s",
+    *(f"{k}_reftime" for k in ("ae", "rmse", "me", "min", "sd", "cep50", "cep75", "cep95", "n")),
 ]
+REFTIME_KEYS = {k for k in ROW_KEYS if k.endswith("_reftime")}
 OPTIONAL_KEYS = {
     "heading_mae_deg",
     "heading_rmse_deg",
@@ -61,6 +63,7 @@ OPTIONAL_KEYS = {
     "latency_ms_mean",
     "latency_ms_p95",
     "train_time_s",
+    *REFTIME_KEYS,
 }
 
 
@@ -297,6 +300,9 @@ def _full_row() -> dict[str, float]:
         n_steps_true=10,
         latencies=[0.001, 0.010, 0.002, 0.003],
         train_time_s=12.5,
+        # Three distinct estimates at the times they refer to: errors 0, 1 and 3.
+        ref_est_xy=[[0.0, 1.0], [2.0, 2.0], [4.0, 4.0]],
+        ref_true_xy=[[0.0, 1.0], [2.0, 1.0], [4.0, 1.0]],
     )
 
 
@@ -318,6 +324,8 @@ def test_summarize_full_row_has_exactly_the_design_keys_and_values():
     assert row["latency_ms_mean"] == pytest.approx(4.0)
     assert row["latency_ms_p95"] == pytest.approx(8.95)
     assert row["train_time_s"] == 12.5
+    assert row["ae_reftime"] == pytest.approx(4 / 3) and row["me_reftime"] == 3.0
+    assert row["min_reftime"] == 0.0 and row["n_reftime"] == 3.0
 
 
 def test_summarize_minimal_row_has_the_same_keys_with_nan_for_omitted_inputs():
@@ -337,6 +345,7 @@ def test_summarize_minimal_row_has_the_same_keys_with_nan_for_omitted_inputs():
         ({"est_heading": [0.0, 0.0]}, "est_heading and true_heading must be given together"),
         ({"n_steps_true": 3}, "n_steps_est and n_steps_true must be given together"),
         ({"train_time_s": math.nan}, "train_time_s"),
+        ({"ref_est_xy": [[0.0, 0.0]]}, "ref_est_xy and ref_true_xy must be given together"),
     ],
 )
 def test_summarize_rejects_half_given_pairs(kwargs, message):

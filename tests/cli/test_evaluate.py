@@ -24,8 +24,11 @@ def test_evaluate_cli_writes_walks_and_fails_above_thresholds(tmp_path, capsys):
         "t",
         "x",
         "y",
+        "t_ref",
         "true_x",
         "true_y",
+        "true_x_ref",
+        "true_y_ref",
     ]
     assert "ae" in pd.read_csv(folder / "metrics.csv").columns
     assert main([*args, "--out", str(tmp_path / "bad"), "--fail-above", "ae=0.01,cep95=100"]) == 3

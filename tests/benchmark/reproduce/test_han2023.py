@@ -5,7 +5,6 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-import pandas as pd
 import pytest
 
 import indoorsim
@@ -73,21 +72,42 @@ def test_static_table_holds_out_the_points_and_records_curves() -> None:
     assert table["paper_mean"].tolist()[:3] == [2.51, 1.63, 1.31]
 
 
-def test_trajectory_table_maps_the_leaderboard_columns() -> None:
-    rows = pd.DataFrame(
-        {
-            "estimator": ["han2023-gm", "han2023-pdr", "han2023-pdr"],
-            "mode": ["handheld", "handheld", "pocketed"],
-            "min": [0.1, 0.0, 0.0],
-            "me": [9.0, 2.0, 20.0],
-            "ae": [5.0, 1.0, 10.0],
-            "sd": [2.0, 0.5, 5.0],
-        }
-    )
-    t = rep.trajectory_table(rows, "han2023_basement").set_index("estimator")
-    assert t.loc["han2023-pdr", ["min", "max", "mean", "sd"]].tolist() == [0.0, 2.0, 1.0, 0.5]
-    assert t.loc["han2023-pdr", "paper_mean"] == 1.63
-    assert np.isnan(t.loc["han2023-fusion", "mean"])  # not in the rows: n/a, not invented
+def test_trajectory_table_reads_per_estimate_errors_and_keeps_the_paper_to_its_rows(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Tables 3–4: the paper's four rows are trained on the same route; every row's
+    statistics are the errors at the time each estimate refers to (``_reftime``)."""
+    calls = []
+
+    class _Ev:
+        def __init__(self, est: str, routes: str, params: dict | None) -> None:
+            self.mean = 1.0 if routes == "same" else 2.0
+            self.mean += 0.5 if params else 0.0
+
+        def row(self) -> dict[str, float]:
+            return {
+                "min_reftime": 0.1,
+                "me_reftime": 3.0,
+                "ae_reftime": self.mean,
+                "sd_reftime": 0.4,
+                "ae": 9.0,
+            }
+
+    def fake_evaluate(est, site, *, train_routes, params, **kwargs):
+        calls.append((est, train_routes, params))
+        return _Ev(est, train_routes, params)
+
+    monkeypatch.setattr(rep, "evaluate", fake_evaluate)
+    t = rep.trajectory_table("han2023_basement", seeds=(0,))
+    assert len(calls) == len(rep.TRAJECTORY_RUNS)
+    paper_rows = t[np.isfinite(t["paper_mean"])]
+    assert list(paper_rows["estimator"]) == list(rep.PAPER_TABLES_3_4["han2023_basement"])
+    assert (paper_rows["train_routes"] == "same").all() and (paper_rows["mean"] == 1.0).all()
+    assert paper_rows.set_index("estimator").loc["han2023-fusion", "paper_mean"] == 0.56
+    extra = t[~np.isfinite(t["paper_mean"])].set_index("method")
+    assert extra.loc["GM/Light/PDR fusion, layer 2 on other routes", "mean"] == 2.0
+    assert extra.loc["PDR-only layer 2", "mean"] == 1.5
+    assert (t["max"] == 3.0).all() and (t["mean_time_uniform"] == 9.0).all()
 
 
 @pytest.mark.slow

@@ -65,6 +65,7 @@ class MetronomeDR:
     period: float = 0.5
     step_count: int = 0
     heading: float = 0.0
+    step_delay_s: float = 0.0  # steps are timed exactly: no filter
     _next: float = 0.0
 
     def reset(self, heading: float) -> None:

@@ -204,3 +204,19 @@ def test_fusion_runs_end_to_end_on_a_small_room() -> None:
     walked = (rec.steps.index >= result.t_start) & (rec.steps.index <= result.t[-1])
     assert result.step_count is not None
     assert abs(result.step_count - int(walked.sum())) <= 2
+
+
+def test_a_pdr_only_layer_2_takes_the_two_pdr_coordinates() -> None:
+    """The diagnostic row of Tables 3–4: layer 2 fed (x_PDR, y_PDR) alone, and no
+    layer 1 (so no grid survey) needed."""
+    site = indoorsim.load_site("minimal_room")
+    ctx = site_context(site, device="mid_grade", window_s=0.5)
+    route = next(iter(site.scenario.routes))
+    train = training_walks(site, route, mode="handheld", device="mid_grade", n=1, routes="same")
+    fusion = Han2023Fusion(layer2_inputs="pdr", **TINY)
+    inputs, targets = fusion.layer_two_data(ctx, train)
+    assert inputs.shape[1] == 2 and targets.shape == (len(inputs), 2)
+    fusion.fit(ctx, train)  # the minimal room has no grid survey: layer 1 is not fitted
+    assert fusion.gml.network is None and fusion.network is not None
+    with pytest.raises(ValueError, match="layer2_inputs must be one of"):
+        Han2023Fusion(layer2_inputs="light")
