@@ -11,33 +11,58 @@ new positions and resampled:
   (Eq. 29), the max and min taken over the non-chicks;
 * hens: the rest.
 
-Readings taken where the paper is silent or loose (PAPER_NOTES, Chen2022 item 7):
+Readings (PAPER_NOTES, Chen2022 item 7). Where the paper prints a formula it
+is the default (issue 18); the alternatives are named options. Measured
+effects: ``indoorsim.benchmark.evaluation.evaluate("chen2022-cpf", ...)`` on
+chen2022_lab and chen2022_office, the mean error over the four carrying modes,
+seeds 0–2 (0–9 in brackets), with the Gaussian likelihood of Eq. 27 unless
+said otherwise.
 
-* Fitness. CSO minimises a fitness f; Eq. 30–31 put the particle weight q,
-  which is to be maximised, in its place. Both readings below divide the
-  weights by their maximum first, so that Eq. 31c's exp(f_mea2 − f_i), which
-  is not scale-free, does not depend on how the weights are normalised.
-  ``fitness="cost"`` (default) keeps CSO's sense: f = 1 − q/max q ∈ [0, 1],
-  0 for the heaviest particle, so the heavier of two roosters searches more
-  widely and s1 ∈ [1, e) pulls the lightest hens hardest toward the
-  roosters — what the paper's §4 describes ("high-quality pedestrian position
-  information is transferred from high-quality particles to small-weight
-  ones"). ``fitness="weight"`` substitutes f = q/max q as printed, which
-  reverses every comparison: s1 = exp((f_i − f_mea1)/|f_i|) → 0 for the
-  lightest hens, which then only contract toward the hens' own mean. Every
-  factor is bounded either way: σ² ∈ (e⁻¹, 1], s2 ∈ (e⁻¹, e).
-* Roosters (Eq. 30). X·(1 + N(0, σ²)) on absolute coordinates scatters a
-  particle by metres times its coordinates, so it depends on where the origin
-  is. It is applied to the rooster's offset from the weighted mean m̄:
-  X ← m̄ + (X − m̄)·(1 + N(0, σ²)), per coordinate. σ² follows CSO: 1 when
-  f_i ≤ f_k for a random other rooster k, else exp((f_k − f_i)/(|f_i| + ε))
-  (Eq. 30b prints q_mea in the exponent; CSO's f_k is used).
-* Hens (Eq. 31). ``hen_targets="means"`` (default, Eq. 31 and PAPER_NOTES):
-  each hen is pulled toward the roosters' mean and the hens' mean, with s1,
-  s2 from the mean fitness of those flocks. ``hen_targets="cso"`` (Meng et
-  al. 2014's Eq. 23): toward its group's rooster — drawn at random, as groups
-  are reformed at every filter step — and a random other rooster or hen. The
-  two uniform factors are one scalar per hen and term (Meng's code).
+* Fitness (Eq. 30b, 31b–c). Printed (default, ``fitness="weight"``): the
+  particle weight is the fitness, higher is better, as f = q/max q (the max
+  over the non-chicks) so that Eq. 31c's exp(f_mea2 − f_i), which is not
+  scale-free, does not depend on how the weights are normalised. A heavy
+  rooster then gets σ² < 1, and s1 = exp((f_i − f_mea1)/f_i) → 0 leaves the
+  lightest hens to contract toward the hens' mean. ``fitness="cost"``: CSO's
+  minimisation sense, f = 1 − q/max q: the heavier of two roosters scatters
+  widest (σ² = 1) and s1 ∈ [1, e) pulls the lightest hens hardest toward the
+  roosters' mean, overshooting it when s1·rand > 1 — closer to §4's prose
+  ("high-quality pedestrian position information is transferred from
+  high-quality particles to small-weight ones") than to its equations.
+  Effect of the sense alone (both with ``rooster_spread="cso"``): lab
+  1.59 → 1.02 m (1.55 → 0.99), office 4.78 → 1.75 m (4.19 → 1.83); with the
+  literal likelihood lab 1.96 → 1.26 m, office 5.00 → 2.80 m.
+* Roosters' spread (Eq. 30b). Printed (default, ``rooster_spread="printed"``):
+  σ² = 1 if f_i ≤ f_k for a random other rooster k, else
+  exp((f_mea − f_i)/(f_i + ε)), where f_mea — the paper's q_mea, "the average
+  weight" — is the mean of f over all N particles, chicks included with their
+  weight 0: Eq. 30b names no flock, unlike Eq. 31's q_mea1 and q_mea2, and a
+  filter's average weight is over its particles. With normalised weights
+  f_mea = 1/(N·max q): 1 for flat weights, small for a peaked cloud, so the
+  heavier rooster of a pair scatters less the more the measurement
+  discriminates. A rooster has f > 0.75 (Eq. 29), so σ² ∈ (e⁻¹, e^{1/3}).
+  ``rooster_spread="cso"`` (Meng et al. 2014): the rival's f_k in place of
+  q_mea, σ² = exp(min(f_k − f_i, 0)/(|f_i| + ε)) ∈ (e⁻¹, 1]. The printed
+  form needs the weight sense (validated): with a cost, a heavy rooster's
+  f_i → 0 and exp((f_mea − f_i)/f_i) is unbounded. Effect (weight sense,
+  cso → printed): lab 1.02 → 0.93 m (0.99 → 0.94), office 1.75 → 1.75 m
+  (1.83 → 1.68); with the literal likelihood lab 1.26 → 1.29 m
+  (1.25 → 1.19), office 2.80 → 2.90 m (2.36 → 2.36): small beside the
+  spread between modes. Together, old (cost, cso) → new defaults: lab
+  1.59 → 0.93 m, office 4.78 → 1.75 m; the plain PF does 1.05 and 1.91 m.
+  With the literal likelihood, exp(−d) with its 1 m scale, the CPF stays
+  behind the PF (lab 1.29 vs 1.06 m, office 2.90 vs 1.90 m; dangling worst).
+* Where roosters move (Eq. 30a). X·(1 + N(0, σ²)) on absolute coordinates
+  scatters a particle by metres times its coordinates, so it depends on
+  where the origin is. It is applied to the rooster's offset from the
+  weighted mean m̄: X ← m̄ + (X − m̄)·(1 + N(0, σ²)), per coordinate.
+* Hens (Eq. 31). ``hen_targets="means"`` (default, as printed): each hen is
+  pulled toward the roosters' mean and the hens' mean, with s1, s2 from the
+  mean fitness of those flocks. ``hen_targets="cso"`` (Meng et al. 2014's
+  Eq. 23): toward its group's rooster — drawn at random, as groups are
+  reformed at every filter step — and a random other rooster or hen. The two
+  uniform factors are one scalar per hen and term (Meng's code). s1 and s2
+  are bounded: s1 ≤ 1 and s2 ∈ (e⁻¹, e) in the weight sense.
 * Chicks (Eq. 24). Each follows a random hen, its mother, by
   FL ~ U(0.5, 0.9) per chick (Meng et al. 2014). A chick stands beyond the
   wall it walked through, so its new place is accepted only if the straight
@@ -52,11 +77,12 @@ Readings taken where the paper is silent or loose (PAPER_NOTES, Chen2022 item 7)
 
 Behaviour to expect: the swarm moves particles toward high likelihood and
 then weights them by that same likelihood, so each measurement is used twice
-and the CPF is no longer a Bayes filter. It homes in on a fixed
-target far faster than the PF, but on a linear-Gaussian walk its error is
-about 1.45× the Kalman filter's (the PF's equals it), and with accurate steps
-and 1.5–2 m fixes (``benchmarks/bench_particle_filter.py``) it follows the
-fixes and its error is about 2.5× the PF's (``fitness="weight"``: 1.2×).
+and the CPF is no longer a Bayes filter. On a linear-Gaussian walk (N = 1000,
+40 seeds) its RMS error is 1.15× the Kalman filter's (the PF's equals it;
+``fitness="cost"``: 1.48×); with accurate steps and 1.5–2 m fixes
+(``benchmarks/bench_particle_filter.py``'s walk) 0.43 m against the PF's
+0.38 m (``fitness="cost"``: 0.99 m). The cost sense homes in on a fixed
+target far faster than the PF; the printed reading does not.
 """
 
 from __future__ import annotations
@@ -110,24 +136,29 @@ class ChickenParticleFilter(ParticleFilter):
     """Particle filter whose particles move as a chicken swarm before resampling (Chen2022 CPF).
 
     A step is :meth:`predict` (Eq. 25, wall rule), :meth:`update` (Eq. 27–28),
-    :meth:`swarm` (Eq. 29–31 and 24, re-weighting) and resampling; see the
-    module docstring for the readings taken. ``roles`` keeps the last swarm's
-    classification for diagnosis.
+    :meth:`swarm` (Eq. 29–31 and 24, re-weighting) and resampling. The
+    defaults are the paper's printed readings; the module docstring gives
+    each alternative, why it exists and its measured effect. ``roles`` keeps
+    the last swarm's classification for diagnosis.
 
     Attributes:
         threshold_fraction: the 0.75 of Eq. 29.
         fl_range: the range of the chicks' following factor FL.
-        hen_targets: ``"means"`` (Eq. 31: roosters' and hens' means) or
-            ``"cso"`` (Meng et al. 2014: a random rooster and a random other
-            chicken).
-        fitness: ``"cost"`` (f = 1 − q/max q, CSO's minimisation sense) or
-            ``"weight"`` (f = q/max q, as Eq. 30–31 print).
+        hen_targets: ``"means"`` (printed, Eq. 31: roosters' and hens' means)
+            or ``"cso"`` (Meng et al. 2014: a random rooster and a random
+            other chicken).
+        fitness: ``"weight"`` (printed, Eq. 30b–31c: f = q/max q, higher is
+            better) or ``"cost"`` (CSO's minimisation sense, f = 1 − q/max q).
+        rooster_spread: ``"printed"`` (Eq. 30b: σ² from q_mea, the mean
+            fitness of all particles; needs ``fitness="weight"``) or
+            ``"cso"`` (Meng et al. 2014: σ² from the rival rooster's f_k).
     """
 
     threshold_fraction: float = 0.75
     fl_range: tuple[float, float] = (0.5, 0.9)
     hen_targets: Literal["means", "cso"] = "means"
-    fitness: Literal["cost", "weight"] = "cost"
+    fitness: Literal["weight", "cost"] = "weight"
+    rooster_spread: Literal["printed", "cso"] = "printed"
 
     roles: NDArray[np.int8] = field(
         default_factory=lambda: np.empty(0, dtype=np.int8), init=False, repr=False, compare=False
@@ -142,8 +173,18 @@ class ChickenParticleFilter(ParticleFilter):
             raise ValueError(f"fl_range must satisfy 0 ≤ low ≤ high ≤ 1, got {self.fl_range}")
         if self.hen_targets not in ("means", "cso"):
             raise ValueError(f"hen_targets must be 'means' or 'cso', got {self.hen_targets!r}")
-        if self.fitness not in ("cost", "weight"):
-            raise ValueError(f"fitness must be 'cost' or 'weight', got {self.fitness!r}")
+        if self.fitness not in ("weight", "cost"):
+            raise ValueError(f"fitness must be 'weight' or 'cost', got {self.fitness!r}")
+        if self.rooster_spread not in ("printed", "cso"):
+            raise ValueError(
+                f"rooster_spread must be 'printed' or 'cso', got {self.rooster_spread!r}"
+            )
+        if self.rooster_spread == "printed" and self.fitness == "cost":
+            # A cost is small for a heavy rooster: exp((f_mea − f_i)/f_i) would be unbounded.
+            raise ValueError(
+                "rooster_spread='printed' (Eq. 30b's q_mea) needs fitness='weight'; "
+                "with fitness='cost' use rooster_spread='cso'"
+            )
 
     def swarm(self, likelihood_fn: LikelihoodFn, rng: np.random.Generator) -> None:
         """Classify, move roosters, hens and chicks once, and re-weight at the new positions.
@@ -202,8 +243,12 @@ class ChickenParticleFilter(ParticleFilter):
         # Each rooster competes with a random other rooster k ≠ i (itself when alone: σ² = 1).
         k = roosters[(np.arange(n) + rng.integers(1, n, size=n)) % n] if n > 1 else roosters
         f_i, f_k = f[roosters], f[k]
-        # (30b) σ² = 1 if f_i ≤ f_k, else exp((f_k − f_i)/(|f_i| + ε)): the min() covers both cases
-        sigma2 = np.exp(np.minimum(f_k - f_i, 0.0) / (np.abs(f_i) + _EPS))
+        if self.rooster_spread == "printed":
+            # (30b) σ² = 1 if q_i ≤ q_k, else exp((q_mea − q_i)/(q_i + ε)), q_mea the mean of all N
+            sigma2 = np.where(f_i <= f_k, 1.0, np.exp((f.mean() - f_i) / (f_i + _EPS)))
+        else:
+            # CSO: σ² = 1 if f_i ≤ f_k, else exp((f_k − f_i)/(|f_i| + ε)); the min() covers both
+            sigma2 = np.exp(np.minimum(f_k - f_i, 0.0) / (np.abs(f_i) + _EPS))
         centre = self.w @ self.x
         offset = self.x[roosters] - centre
         # (30a) X ← X·(1 + N(0, σ²)), on the offset from the weighted mean (scale-free)

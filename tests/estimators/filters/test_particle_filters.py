@@ -200,18 +200,124 @@ def swarm_once(offset: np.ndarray, seed: int = 4, **options: str) -> ChickenPart
     return cpf
 
 
-@pytest.mark.parametrize("fitness", ["cost", "weight"])
+# Every valid (fitness, rooster_spread): Eq. 30b's q_mea is defined for weights only.
+READINGS = [("weight", "printed"), ("weight", "cso"), ("cost", "cso")]
+
+
+@pytest.mark.parametrize(("fitness", "rooster_spread"), READINGS)
 @pytest.mark.parametrize("hen_targets", ["means", "cso"])
-def test_swarm_moves_are_scale_free(hen_targets: str, fitness: str) -> None:
+def test_swarm_moves_are_scale_free(hen_targets: str, fitness: str, rooster_spread: str) -> None:
     # Literal Eq. 30 would move a rooster at (1000, −500) by ~1000 m; on the
     # offset from the weighted mean, translating the cloud changes nothing.
-    near = swarm_once(np.zeros(2), hen_targets=hen_targets, fitness=fitness)
+    options = {"hen_targets": hen_targets, "fitness": fitness, "rooster_spread": rooster_spread}
+    near = swarm_once(np.zeros(2), **options)
     far_offset = np.array([1000.0, -500.0])
-    far = swarm_once(far_offset, hen_targets=hen_targets, fitness=fitness)
+    far = swarm_once(far_offset, **options)
     assert (near.roles == ROOSTER).sum() > 0 and (near.roles == HEN).sum() > 0
     np.testing.assert_array_equal(far.roles, near.roles)
     np.testing.assert_allclose(far.x - far_offset, near.x, atol=1e-9)
     np.testing.assert_allclose(far.w, near.w, rtol=1e-9)
+
+
+class FixedDraws:
+    """Stands in for the Generator in :meth:`ChickenParticleFilter.swarm`: fixed draws."""
+
+    normal = np.array([[0.5, -1.0], [2.0, 0.25]])  # the two roosters' N(0, 1) pairs
+    unit = np.array([[0.5, 0.25], [0.75, 1.0]])  # the two hens' rand factors (term 1, term 2)
+
+    def integers(self, low: int, high: int, size: int) -> np.ndarray:
+        return np.full(size, low)  # k = the other rooster (index offset 1 of 2)
+
+    def standard_normal(self, size: tuple[int, int]) -> np.ndarray:
+        assert size == self.normal.shape
+        return self.normal
+
+    def random(self, size: tuple[int, int]) -> np.ndarray:
+        assert size == self.unit.shape
+        return self.unit
+
+    def choice(self, a: np.ndarray, size: int) -> np.ndarray:
+        return np.full(size, a[-1])  # every chick's mother is the last hen
+
+    def uniform(self, low: float, high: float, size: int) -> np.ndarray:
+        return np.full(size, low)  # FL = 0.5
+
+
+# Weights of roosters 0, 1, hens 2, 3 and a chick 4: T = 0.75·(0.4 − 0.08) + 0.08 = 0.32 (Eq. 29).
+HAND_W = np.array([0.4, 0.36, 0.16, 0.08, 0.0])
+HAND_X = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0], [4.0, 4.0], [8.0, 2.0]])
+
+
+def rooster(i: int, sigma2: float) -> np.ndarray:
+    """(30a) on the offset from the weighted mean m̄ = Σ w·X = (1.04, 0.64)."""
+    m = np.array([1.04, 0.64])
+    return m + (HAND_X[i] - m) * (1.0 + np.sqrt(sigma2) * FixedDraws.normal[i])
+
+
+def hen(i: int, s1: float, s2: float) -> np.ndarray:
+    """(31a) toward the roosters' mean (1, 0) and the hens' mean (2, 3)."""
+    u1, u2 = FixedDraws.unit[i - 2]
+    x = HAND_X[i]
+    return x + s1 * u1 * (np.array([1.0, 0.0]) - x) + s2 * u2 * (np.array([2.0, 3.0]) - x)
+
+
+# The chick follows hen 3 with FL = 0.5 (Eq. 24): (8, 2) + 0.5·((4, 4) − (8, 2)).
+CHICK_TO = np.array([6.0, 3.0])
+
+# Weight fitness f = q / max q = (1, 0.9, 0.4, 0.2, 0); f_mea1 = 0.95, f_mea2 = 0.3.
+# (31b) s1 = exp((f_i − f_mea1)/f_i), (31c) s2 = exp(f_mea2 − f_i)
+HENS_BY_WEIGHT = [
+    hen(2, np.exp((0.4 - 0.95) / 0.4), np.exp(0.3 - 0.4)),
+    hen(3, np.exp((0.2 - 0.95) / 0.2), np.exp(0.3 - 0.2)),
+]
+# Cost fitness f = 1 − q / max q = (0, 0.1, 0.6, 0.8, 1); f_mea1 = 0.05, f_mea2 = 0.7.
+HENS_BY_COST = [
+    hen(2, np.exp((0.6 - 0.05) / 0.6), np.exp(0.7 - 0.6)),
+    hen(3, np.exp((0.8 - 0.05) / 0.8), np.exp(0.7 - 0.8)),
+]
+
+
+@pytest.mark.parametrize(
+    ("options", "expected"),
+    [
+        # Printed (default): rooster 0 outweighs rooster 1 (f 1 > 0.9), so (30b)
+        # σ² = exp((f_mea − f_0)/f_0) with f_mea the mean over all five
+        # particles, (1 + 0.9 + 0.4 + 0.2 + 0)/5 = 0.5: σ² = exp(−0.5); rooster
+        # 1 is the lighter of its pair: σ² = 1.
+        ({}, [rooster(0, np.exp(-0.5)), rooster(1, 1.0), *HENS_BY_WEIGHT]),
+        # CSO's f_k in place of q_mea: σ² = exp((f_1 − f_0)/f_0) = exp(−0.1).
+        (
+            {"rooster_spread": "cso"},
+            [rooster(0, np.exp(-0.1)), rooster(1, 1.0), *HENS_BY_WEIGHT],
+        ),
+        # CSO's sense: rooster 0 has the lower cost, σ² = 1; rooster 1
+        # σ² = exp((f_0 − f_1)/f_1) = exp((0 − 0.1)/0.1) = exp(−1).
+        (
+            {"fitness": "cost", "rooster_spread": "cso"},
+            [rooster(0, 1.0), rooster(1, np.exp(-1.0)), *HENS_BY_COST],
+        ),
+    ],
+    ids=["weight-printed", "weight-cso", "cost-cso"],
+)
+def test_swarm_update_equals_eq30_31_by_hand(options: dict, expected: list) -> None:
+    cpf = ChickenParticleFilter(n_particles=5, **options)
+    cpf.initialise([0.0, 0.0], heading=0.0, spread=0.0, rng=np.random.default_rng(0))
+    cpf.x, cpf.w, cpf.w_prior = HAND_X.copy(), HAND_W.copy(), HAND_W.copy()
+    cpf.crossed = np.array([False, False, False, False, True])
+    cpf.swarm(lambda p: np.ones(len(p)), FixedDraws())  # type: ignore[arg-type]
+    assert cpf.roles.tolist() == [ROOSTER, ROOSTER, HEN, HEN, CHICK]
+    np.testing.assert_allclose(cpf.x, [*expected, CHICK_TO], rtol=1e-12, atol=1e-12)
+    # A flat likelihood leaves the prior weights; the chick, still beyond its wall, keeps 0.
+    np.testing.assert_allclose(cpf.w, HAND_W / HAND_W.sum())
+
+
+def test_the_printed_reading_is_the_default_and_needs_the_weight_sense() -> None:
+    cpf = ChickenParticleFilter()
+    assert (cpf.fitness, cpf.rooster_spread) == ("weight", "printed")
+    with pytest.raises(ValueError, match="rooster_spread"):
+        ChickenParticleFilter(fitness="cost")  # Eq. 30b's q_mea with a cost is unbounded
+    with pytest.raises(ValueError, match="rooster_spread"):
+        ChickenParticleFilter(rooster_spread="wide")  # type: ignore[arg-type]
 
 
 def test_a_chick_is_rescued_only_onto_its_mothers_side(two_rooms: FloorPlan) -> None:
@@ -237,10 +343,10 @@ def test_a_chick_is_rescued_only_onto_its_mothers_side(two_rooms: FloorPlan) -> 
     assert two_rooms.is_walkable(cpf.x[cpf.w > 0]).all()
 
 
-def converge(cls: type[ParticleFilter], seed: int, steps: int) -> float:
+def converge(cls: type[ParticleFilter], seed: int, steps: int, **options: str) -> float:
     """Error after ``steps`` updates towards a fixed target 5 m from the start."""
     target = np.array([4.0, 3.0])
-    f = cls(n_particles=300, sigma_heading=0.0, sigma_step=0.0, sigma_xy=0.1)
+    f = cls(n_particles=300, sigma_heading=0.0, sigma_step=0.0, sigma_xy=0.1, **options)
     rng = np.random.default_rng(seed)
     f.initialise([0.0, 0.0], heading=0.0, spread=1.5, rng=rng)
     for _ in range(steps):
@@ -249,9 +355,14 @@ def converge(cls: type[ParticleFilter], seed: int, steps: int) -> float:
 
 
 @pytest.mark.parametrize("steps", [3, 10])
-def test_cpf_converges_at_least_as_fast_as_the_pf(steps: int) -> None:
+def test_cost_reading_converges_at_least_as_fast_as_the_pf(steps: int) -> None:
+    # CSO's cost sense pulls the lightest hens hardest toward the roosters. The
+    # printed (weight) sense, the default since issue 18, leaves light hens
+    # nearly still (s1 → 0) and does not home in faster: median error after 3
+    # steps 1.42 m against the PF's 1.21 m, after 10 steps 0.73 m against 0.83 m.
+    cost = {"fitness": "cost", "rooster_spread": "cso"}
     pf = np.median([converge(ParticleFilter, seed, steps) for seed in range(15)])
-    cpf = np.median([converge(ChickenParticleFilter, seed, steps) for seed in range(15)])
+    cpf = np.median([converge(ChickenParticleFilter, seed, steps, **cost) for seed in range(15)])
     assert cpf <= pf
 
 

@@ -15,7 +15,7 @@ from indoorsim.benchmark.evaluation import (
     training_walks,
     true_positions_at,
 )
-from indoorsim.estimators.base import NotApplicableError, SiteContext, make
+from indoorsim.estimators.base import NotApplicableError, SiteContext, StartInfo, make
 from indoorsim.estimators.filters import ChickenParticleFilter, ParticleFilter
 from indoorsim.estimators.fingerprint import (
     MagneticSequenceMatcher,
@@ -293,3 +293,24 @@ def test_it_runs_on_the_accelerometer_alone(
     result = run_episode(est, bare, lab_context, start_info(rec, seed=3))
     assert np.isfinite(result.estimate).all()
     assert result.step_count is not None and result.step_count > 0
+
+
+def test_the_cpf_passes_the_printed_swarm_readings_to_its_filter(
+    lab_context: SiteContext,
+) -> None:
+    """Defaults as Chen2022 prints them (weight fitness, Eq. 30b's q_mea, exp(−d));
+    the other readings reach the filter when asked for."""
+    start = StartInfo(position=np.array([1.3, 10.9]), heading=0.0, seed=1)
+    for kwargs, expected in (
+        ({}, ("weight", "printed")),
+        ({"fitness": "cost", "rooster_spread": "cso"}, ("cost", "cso")),
+    ):
+        est = Chen2022Cpf(n_particles=50, **kwargs)
+        est.fit(lab_context, [])
+        est.reset(start)
+        pf = est.particle_filter
+        assert isinstance(pf, ChickenParticleFilter)
+        assert (pf.fitness, pf.rooster_spread) == expected
+    assert Chen2022Cpf().likelihood == "literal"
+    with pytest.raises(ValueError, match="rooster_spread"):
+        Chen2022Cpf(fitness="cost", rooster_spread="printed")
