@@ -314,3 +314,32 @@ def test_the_cpf_passes_the_printed_swarm_readings_to_its_filter(
     assert Chen2022Cpf().likelihood == "literal"
     with pytest.raises(ValueError, match="rooster_spread"):
         Chen2022Cpf(fitness="cost", rooster_spread="printed")
+
+
+@pytest.mark.parametrize("only", [None, "wifi", "magnetic"])
+def test_the_default_likelihood_is_eq_27_as_printed(only: str | None) -> None:
+    """Eq. 27–28 by hand: q = Π 1/(√‖R‖·√2π)·exp(−‖z − x‖) over the fixes present.
+    The prefactor is the same for every particle, so the weights it gives are those
+    of exp(−d_WiFi − d_MM) once normalised."""
+    from indoorsim.estimators.pdr import GaitStep
+    from indoorsim.estimators.pipelines.chen2022 import StepFixes
+
+    est = Chen2022Cpf()
+    est.r_wifi_m2, est.r_magnetic_m2 = 7.0, 3.0  # only the prefactor would see them
+    z_wifi, z_mag = np.array([2.0, 1.0]), np.array([-1.0, 3.0])
+    fixes = StepFixes(
+        GaitStep(1.0, 0.6, 0.0, 0.0, 0.05),
+        magnetic=None if only == "wifi" else z_mag,
+        wifi=None if only == "magnetic" else z_wifi,
+    )
+    particles = np.array([[0.0, 0.0], [2.0, 1.0], [-1.0, 3.0], [5.0, -4.0]])
+    q = est._likelihood(fixes)(particles)
+    by_hand = np.ones(len(particles))
+    for z, r, kind in ((z_wifi, 7.0, "wifi"), (z_mag, 3.0, "magnetic")):
+        if only in (None, kind):
+            d = np.hypot(*(particles - z).T)
+            by_hand *= np.exp(-d) / (np.sqrt(r) * np.sqrt(2 * np.pi))
+    np.testing.assert_allclose(q / q.sum(), by_hand / by_hand.sum(), rtol=1e-12)
+    # d = 0 to its own fix and √13 m to the other: exp(−√13) of the unnormalised value
+    if only is None:
+        assert q[1] == pytest.approx(np.exp(-np.sqrt(13.0)))
