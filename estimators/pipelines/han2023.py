@@ -65,7 +65,7 @@ from indoorsim.estimators.base import (
 )
 from indoorsim.estimators.fingerprint.library import SURVEY_COLUMNS, FingerprintLibrary
 from indoorsim.estimators.frames import geomagnetic_mean, wrap_angle, yaw_rate
-from indoorsim.estimators.nn.bp import TentAsoBP
+from indoorsim.estimators.nn.bp import BPUpdate, TentAsoBP
 from indoorsim.estimators.pdr import (
     WEINBERG_K,
     HeadingBKF,
@@ -415,6 +415,7 @@ class Han2023GML:
         hidden: hidden neurons (paper 4).
         use_tent: Tent-map initial population.
         use_aso: ASO search of the initial weights.
+        bp_update: BP's momentum update (:class:`~indoorsim.estimators.nn.bp.TentAsoBP`).
         mag_resolution: library magnetic grid, m.
         light_resolution: library light grid, m.
         survey: the grid survey's database name; None for the first with a grid.
@@ -432,6 +433,7 @@ class Han2023GML:
     hidden: int = 4
     use_tent: bool = True
     use_aso: bool = True
+    bp_update: BPUpdate = "traingdm"
     mag_resolution: float = 0.3
     light_resolution: float = 0.6
     survey: str | None = None
@@ -459,6 +461,7 @@ class Han2023GML:
             hidden=self.hidden,
             use_tent=self.use_tent,
             use_aso=self.use_aso,
+            bp_update=self.bp_update,
         )
 
     def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
@@ -599,6 +602,7 @@ class Han2023Fusion:
         population: layer-2 ASO atoms.
         iterations: layer-2 ASO iterations.
         epochs: layer-2 BP epochs.
+        bp_update: layer 2's BP momentum update (layer 1's is ``gml.bp_update``).
         fit_seed: the seed of layer 2's training.
         network: after ``fit``, layer 2.
     """
@@ -612,6 +616,7 @@ class Han2023Fusion:
     iterations: int = 500
     epochs: int = 1000
     hidden: int = 4
+    bp_update: BPUpdate = "traingdm"
     fit_seed: int = 0
 
     network: TentAsoBP | None = field(default=None, init=False, repr=False, compare=False)
@@ -648,6 +653,7 @@ class Han2023Fusion:
             iterations=self.iterations,
             epochs=self.epochs,
             hidden=self.hidden,
+            bp_update=self.bp_update,
         ).fit(inputs, targets, np.random.default_rng(self.fit_seed))
 
     def layer_two_data(
