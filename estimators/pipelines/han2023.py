@@ -32,9 +32,10 @@ Readings taken where the paper is silent:
 * Layer 2 does not feed back into either layer: PDR and GM/Light run
   independently from the start, as in the paper's description.
 * Training budgets default to the paper's (population 30, 500 ASO
-  iterations, 1000 BP epochs): the batched ASO makes that about 1.3 s for
-  the basement's 3397-point library. Smaller budgets are constructor
-  arguments (the tests use them).
+  iterations, 1000 BP epochs, MATLAB ``traingdm`` with lr 0.01 and momentum
+  0.5): the batched ASO makes that about 5 s for the corridor's layer 1 and
+  0.2 s for layer 2 on one thread (``benchmarks/bench_han2023.py``).
+  Smaller budgets are constructor arguments (the tests use them).
 
 Missing streams: without a gyroscope the heading filter runs its
 constant-rate model on the magnetometer alone; without a magnetometer it
