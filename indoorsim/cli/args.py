@@ -9,6 +9,7 @@ that need the simulator import it when they run, so that building the parser
 from __future__ import annotations
 
 import argparse
+import sys
 import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -31,6 +32,7 @@ __all__ = [
     "mode_schedule",
     "positive",
     "route_name",
+    "route_or_first",
     "seed_number",
     "working",
 ]
@@ -127,6 +129,22 @@ def route_name(site: Site, name: str) -> str:
     except UnknownRouteError as err:
         raise CliError(f"--route {name}: {err}") from None
     return name
+
+
+def route_or_first(site: Site, name: str | None) -> str:
+    """``--route``: ``name`` if given (checked), else the scenario's first route, said on stderr.
+
+    The choice goes to stderr as ``route: NAME (the first of: A, B)`` so that
+    stdout keeps only the command's result.
+    """
+    if name is not None:
+        return route_name(site, name)
+    routes = list(site.scenario.routes)
+    if not routes:
+        raise CliError(f"scenario {site.name!r} has no routes to walk (its 'routes:' is empty)")
+    which = "the only one" if len(routes) == 1 else f"the first of: {', '.join(routes)}"
+    print(f"route: {routes[0]} ({which})", file=sys.stderr)
+    return routes[0]
 
 
 def mode_schedule(text: str, *, one_mode: bool = False) -> ModeSchedule:

@@ -19,7 +19,7 @@ from indoorsim.cli.args import (
     device_profile,
     mode_schedule,
     positive,
-    route_name,
+    route_or_first,
     working,
 )
 
@@ -84,7 +84,12 @@ def add_evaluate(subparsers: Subparsers) -> None:
         help="a recording (indoorsim folder or a real log) scored at its true positions",
     )
     parser.add_argument("--mode", default="handheld", help="carrying mode (default handheld)")
-    parser.add_argument("--route", default=None, help="test route (default: the first)")
+    parser.add_argument(
+        "--route",
+        default=None,
+        metavar="NAME",
+        help="test route (default: the scenario's first; indoorsim scenarios NAME lists them)",
+    )
     parser.add_argument(
         "--seeds", type=positive(int), default=3, metavar="N", help="test seeds 0..N-1"
     )
@@ -144,8 +149,7 @@ def _run_evaluate(args: argparse.Namespace) -> int:
         from indoorsim.scenario.load import load_site
 
         site = load_site(args.scenario)
-        if args.route is not None:
-            route_name(site, args.route)
+        route = route_or_first(site, args.route)
         mode_schedule(args.mode, one_mode=True)
         device_profile(args.device)
         device_profile(args.survey_device)
@@ -157,7 +161,7 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                 site,
                 mode=args.mode,
                 seeds=tuple(range(args.seeds)),
-                route=args.route,
+                route=route,
                 device=args.device,
                 survey_device=args.survey_device,
                 window_s=args.window,
