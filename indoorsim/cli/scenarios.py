@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
+from indoorsim.cli.args import table_lines
+
 if TYPE_CHECKING:
     from indoorsim.cli.args import Subparsers
     from indoorsim.world.site import Site
@@ -105,19 +107,6 @@ def _count(n: int, what: str, plural: str = "") -> str:
     return f"{n} {what if n == 1 else plural or what + 's'}"
 
 
-def _table(rows: list[tuple[str, ...]], right: set[int]) -> list[str]:
-    """Rows as aligned columns, indented by two; columns in ``right`` right-justified."""
-    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-    return [
-        "  "
-        + "  ".join(
-            cell.rjust(w) if i in right else cell.ljust(w)
-            for i, (cell, w) in enumerate(zip(row, widths, strict=True))
-        ).rstrip()
-        for row in rows
-    ]
-
-
 def _show_scenario(name: str) -> int:
     """Print one scenario: what it is, its plan and sources, its routes and survey plans."""
     from collections import Counter
@@ -214,7 +203,7 @@ def _routes(site: Site) -> list[str]:
                 continue
         seconds = length / spec.speed
         rows.append((name, f"{length:.1f} m", f"{spec.speed:g} m/s", f"~{seconds:.0f} s", given))
-    return _table(rows, right={1, 2, 3}) if len(rows) > 1 else []
+    return table_lines(rows, right={1, 2, 3}) if len(rows) > 1 else []
 
 
 def _surveys(site: Site) -> list[str]:
@@ -241,4 +230,4 @@ def _surveys(site: Site) -> list[str]:
                 f"{_count(spec.repeats, 'pass', 'passes')}"
             )
         rows.append((name, spec.kind, text))
-    return _table(rows, right=set()) if len(rows) > 1 else []
+    return table_lines(rows, right=set()) if len(rows) > 1 else []

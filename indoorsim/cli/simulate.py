@@ -102,9 +102,9 @@ def _run_simulate(args: argparse.Namespace) -> int:
     from indoorsim.walker.schedule import ScheduleError
 
     site = load_site(args.scenario)
-    route = route_or_first(site, args.route)
     mode = mode_schedule(args.mode)
     device = device_profile(args.device)
+    route = route_or_first(site, args.route)  # last: it says which route when defaulting
     try:
         with working(f"simulating {site.name}, route {route}"):
             rec = simulate(site, route=route, mode=mode, device=device, seed=args.seed)
