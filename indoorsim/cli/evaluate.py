@@ -26,6 +26,7 @@ from indoorsim.cli.args import (
 )
 
 if TYPE_CHECKING:
+    from indoorsim.benchmark.evaluation import WalkResult
     from indoorsim.cli.args import Subparsers
 
 __all__ = ["add_evaluate", "add_leaderboard"]
@@ -109,6 +110,18 @@ def add_evaluate(subparsers: Subparsers) -> None:
     )
     parser.add_argument("--out", type=Path, required=True, metavar="DIR")
     parser.add_argument(
+        "--export",
+        choices=("tum",),
+        help="also write each walk's estimate.tum and truth.tum beside its estimates.csv, "
+        "for evo (evo_ape tum truth.tum estimate.tum) and other SLAM tools. TUM format: one "
+        "pose per line, 'timestamp tx ty tz qx qy qz qw', space-separated, no header: the "
+        "rows of estimates.csv (the estimate at each window's end, t, x, y; the truth "
+        "true_x, true_y at the same times), z = 0. Orientation: a turn about +z by the "
+        "estimator's heading where it exposes one, else the identity (0 0 0 1); the "
+        "truth's is the true walking direction (the identity for a real log, whose rows "
+        "are its truth times, with the estimates interpolated to them)",
+    )
+    parser.add_argument(
         "--fail-above",
         type=_thresholds,
         default={},
@@ -150,6 +163,8 @@ def _run_evaluate(args: argparse.Namespace) -> int:
             raise CliError(f"--recording {args.recording}: cannot be scored: {err}") from None
         args.out.mkdir(parents=True, exist_ok=True)
         walk.estimates.to_csv(args.out / "estimates.csv", index=False)
+        if args.export == "tum":
+            _export_tum(walk, args.out)
         summary = pd.DataFrame(
             [{"estimator": name, "params": json.dumps(params, sort_keys=True), **walk.metrics}]
         )
@@ -184,6 +199,10 @@ def _run_evaluate(args: argparse.Namespace) -> int:
             raise CliError(f"--estimator {args.estimator}: not applicable here: {ev.note}")
         args.out.mkdir(parents=True, exist_ok=True)
         leaderboard.write_walks(ev, args.out)
+        if args.export == "tum":
+            for walk in ev.walks:
+                # The folder leaderboard.write_walks wrote the walk's estimates.csv in.
+                _export_tum(walk, args.out / f"{ev.scenario}_{ev.mode}_{name}_seed{walk.seed}")
         summary = pd.DataFrame([ev.row()])
     summary.to_csv(args.out / "summary.csv", index=False)
     shown = [c for c in ("ae", "rmse", "me", "cep50", "cep95") if c in summary]
@@ -204,6 +223,24 @@ def _checkpoint_error(name: str, params: dict[str, Any], err: Exception) -> CliE
     """A checkpoint that does not load (a ``CheckpointError`` from ``fit``), as one line."""
     option = "option checkpoint: " if "checkpoint" in params else ""
     return CliError(f"--estimator {name}: {option}{err}")
+
+
+def _export_tum(walk: WalkResult, folder: Path) -> None:
+    """``estimate.tum`` and ``truth.tum`` of one walk in ``folder`` (see ``--export``)."""
+    from indoorsim.io.tum import write_tum
+
+    est = walk.estimates
+    t = est["t"].to_numpy(dtype=float)
+    try:
+        write_tum(folder / "estimate.tum", t, est[["x", "y"]].to_numpy(), heading=walk.heading)
+        write_tum(
+            folder / "truth.tum",
+            t,
+            est[["true_x", "true_y"]].to_numpy(),
+            heading=walk.true_heading,
+        )
+    except ValueError as err:  # times that do not increase (a real log's)
+        raise CliError(f"--export tum: {err}") from None
 
 
 # ----------------------------------------------------------------- leaderboard
