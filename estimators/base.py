@@ -27,6 +27,17 @@ imports the simulator's truth side (``indoorsim.world``, ``indoorsim.walker``,
 Estimators register by name (:func:`register`), through the entry-point group
 ``indoorsim.estimators``, or as a ``"package.module:Class"`` string, so a
 user's package plugs in without editing indoorsim (:func:`make`).
+
+An estimator class may also declare what it runs on, for ``indoorsim
+estimators`` to list (both optional; the terms are the keys of :data:`NEEDS`)::
+
+    needs: ClassVar[tuple[str, ...]] = ("walk survey", "WiFi")  # without them fit raises
+                                                               # NotApplicableError
+    uses: ClassVar[tuple[str, ...]] = ("training walks",)     # taken when the site has
+                                                               # them, defaults otherwise
+
+Both describe the class's default options (an option may switch a source off).
+A class without them is listed as "not declared".
 """
 
 from __future__ import annotations
@@ -48,6 +59,7 @@ from indoorsim.windows import PRESENT_ORDER, Observation
 
 __all__ = [
     "ENTRY_POINT_GROUP",
+    "NEEDS",
     "Estimator",
     "NotApplicableError",
     "Observation",
@@ -55,6 +67,7 @@ __all__ = [
     "StartInfo",
     "UnknownEstimatorError",
     "available",
+    "estimator_class",
     "make",
     "not_reset_error",
     "present_streams",
@@ -62,6 +75,20 @@ __all__ = [
 ]
 
 ENTRY_POINT_GROUP = "indoorsim.estimators"
+
+NEEDS: dict[str, str] = {
+    "grid survey": "a fingerprint database with a 'grid' table: Han2023's offline phase "
+    "(indoorsim survey --kind grid)",
+    "walk survey": "a fingerprint database with 'magnetic' and 'wifi' tables: Chen2022's "
+    "offline phase (indoorsim survey --kind walk)",
+    "WiFi": "WiFi scans in the walk and reference fingerprints of the site's APs in the survey",
+    "training walks": "labelled walks of the site with truth and true steps (evaluate "
+    "simulates them: --train-routes)",
+    "floor plan": "the site's walls and walkable area (none for a real log)",
+    "checkpoint": "a trained network folder (indoorsim train --out); the packaged one "
+    "unless the checkpoint option names another",
+}
+"""The terms of an estimator class's optional ``needs`` and ``uses`` (module docstring)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -194,26 +221,35 @@ def available() -> list[str]:
     return sorted(names)
 
 
-def make(spec: str, **kwargs: Any) -> Estimator:
-    """Build an estimator from a registered name, an entry-point name, or ``module:Class``.
+def estimator_class(spec: str) -> Callable[..., Estimator]:
+    """What :func:`make` calls for ``spec``: the registered class, the entry point's
+    target, or the ``module:Class`` — to read its options, docstring or ``needs``.
 
     Raises:
         UnknownEstimatorError: listing the names that exist.
     """
     _load_builtins()
     if spec in _REGISTRY:
-        return _REGISTRY[spec](**kwargs)
+        return _REGISTRY[spec]
     for ep in entry_points(group=ENTRY_POINT_GROUP):
         if ep.name == spec:
-            return ep.load()(**kwargs)
+            return ep.load()
     if ":" in spec:
         module, _, attr = spec.partition(":")
         try:
-            target = getattr(importlib.import_module(module), attr)
+            return getattr(importlib.import_module(module), attr)
         except (ImportError, AttributeError) as err:
             raise UnknownEstimatorError(spec, reason=str(err)) from None
-        return target(**kwargs)
     raise UnknownEstimatorError(spec, [*available(), "or any 'package.module:Class'"])
+
+
+def make(spec: str, **kwargs: Any) -> Estimator:
+    """Build an estimator from a registered name, an entry-point name, or ``module:Class``.
+
+    Raises:
+        UnknownEstimatorError: listing the names that exist.
+    """
+    return estimator_class(spec)(**kwargs)
 
 
 def _load_builtins() -> None:

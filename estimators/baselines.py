@@ -45,6 +45,8 @@ class StartOnly:
     """Always answers the start position."""
 
     name: ClassVar[str] = "start-only"
+    needs: ClassVar[tuple[str, ...]] = ()
+    uses: ClassVar[tuple[str, ...]] = ()
 
     _position: NDArray[np.float64] | None = field(
         default=None, init=False, repr=False, compare=False
@@ -89,6 +91,8 @@ class PdrBasic:
     """
 
     name: ClassVar[str] = "pdr-basic"
+    needs: ClassVar[tuple[str, ...]] = ()
+    uses: ClassVar[tuple[str, ...]] = ()
 
     weinberg_k: float = WEINBERG_K
     detector: PeakStepDetector = field(default_factory=PeakStepDetector)
@@ -172,6 +176,8 @@ class WknnMag:
     """
 
     name: ClassVar[str] = "wknn-mag"
+    needs: ClassVar[tuple[str, ...]] = ("grid survey",)
+    uses: ClassVar[tuple[str, ...]] = ()
 
     k: int = 4
     survey: str | None = None

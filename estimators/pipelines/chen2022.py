@@ -870,6 +870,8 @@ class Chen2022Cpf(Chen2022FrontEnd):
     """
 
     name: ClassVar[str] = "chen2022-cpf"
+    needs: ClassVar[tuple[str, ...]] = ("walk survey",)
+    uses: ClassVar[tuple[str, ...]] = ("WiFi", "training walks", "floor plan")
 
     fusion: Literal["cpf", "pf"] = "cpf"
     use_magnetic: bool = True
@@ -969,6 +971,8 @@ class DrWifi(Chen2022Pf):
     """DR + WiFi matching (Table 1): the plain PF with the WiFi likelihood only."""
 
     name: ClassVar[str] = "dr-wifi"
+    needs: ClassVar[tuple[str, ...]] = ("walk survey", "WiFi")
+    uses: ClassVar[tuple[str, ...]] = ("training walks", "floor plan")
     use_magnetic: bool = False
 
 
@@ -978,4 +982,6 @@ class DrMm(Chen2022Pf):
     """DR + HV-DDTW magnetic matching (Table 1): the plain PF with the magnetic likelihood only."""
 
     name: ClassVar[str] = "dr-mm"
+    needs: ClassVar[tuple[str, ...]] = ("walk survey",)
+    uses: ClassVar[tuple[str, ...]] = ("training walks", "floor plan")
     use_wifi: bool = False

@@ -662,6 +662,8 @@ class EdtwRekf(Chen2022FrontEnd):
     """
 
     name: ClassVar[str] = "edtw-rekf"
+    needs: ClassVar[tuple[str, ...]] = ("walk survey",)
+    uses: ClassVar[tuple[str, ...]] = ("WiFi", "training walks")
 
     slope_length_m: float = 1.0
     innovation_window: int = 5
@@ -730,6 +732,8 @@ class Apf(Chen2022FrontEnd):
     """
 
     name: ClassVar[str] = "apf"
+    needs: ClassVar[tuple[str, ...]] = ("walk survey", "WiFi")
+    uses: ClassVar[tuple[str, ...]] = ("training walks", "floor plan")
 
     n_particles: int = 1000
     ess_threshold: float = 0.5
@@ -791,6 +795,8 @@ class WiMag(Chen2022FrontEnd):
     """
 
     name: ClassVar[str] = "wimag"
+    needs: ClassVar[tuple[str, ...]] = ("walk survey",)
+    uses: ClassVar[tuple[str, ...]] = ("WiFi", "training walks")
 
     matcher: Literal["md-dtw", "hv-ddtw"] = "md-dtw"
     region_sigmas: float = 2.0

@@ -195,6 +195,8 @@ class Han2023Pdr:
     """
 
     name: ClassVar[str] = "han2023-pdr"
+    needs: ClassVar[tuple[str, ...]] = ()
+    uses: ClassVar[tuple[str, ...]] = ("training walks",)
 
     min_interval_s: float = 0.5
     weinberg_k: float = WEINBERG_K
@@ -426,6 +428,8 @@ class Han2023GML:
     """
 
     name: ClassVar[str] = "han2023-gml"
+    needs: ClassVar[tuple[str, ...]] = ("grid survey",)
+    uses: ClassVar[tuple[str, ...]] = ("floor plan",)
     features: ClassVar[tuple[str, ...]] = ("Mx", "My", "Mz", "L")
 
     population: int = 30
@@ -609,6 +613,8 @@ class Han2023Fusion:
     """
 
     name: ClassVar[str] = "han2023-fusion"
+    needs: ClassVar[tuple[str, ...]] = ("grid survey", "training walks")
+    uses: ClassVar[tuple[str, ...]] = ("floor plan",)
 
     pdr: Han2023Pdr = field(default_factory=Han2023Pdr)
     gml: Han2023GML = field(default_factory=Han2023GML)

@@ -114,6 +114,8 @@ class LearnedIO:
     """
 
     name: ClassVar[str] = "learned-io"
+    needs: ClassVar[tuple[str, ...]] = ("checkpoint",)
+    uses: ClassVar[tuple[str, ...]] = ()
 
     checkpoint: str | None = None
     min_speed_mps: float = 0.1

@@ -314,6 +314,12 @@ class WalkResult:
     seed: int
     estimates: pd.DataFrame  # t, x, y, t_ref, true_x, true_y (at t), true_x_ref, true_y_ref
     metrics: dict[str, float]
+    heading: NDArray[np.float64] | None = None
+    """The estimator's heading at each row of ``estimates``, rad counter-clockwise from
+    +x (NaN where it gave none); None when it exposes no ``heading``."""
+    true_heading: NDArray[np.float64] | None = None
+    """The true walking direction at each row of ``estimates``, rad; None without one
+    (a real log's truth is positions only)."""
 
 
 @dataclass(kw_only=True)
@@ -435,7 +441,14 @@ def evaluate(
         frame["true_x"], frame["true_y"] = truth_xy[:, 0], truth_xy[:, 1]
         frame["true_x_ref"], frame["true_y_ref"] = ref_xy[:, 0], ref_xy[:, 1]
         score = _score(res, rec, plan=site.plan, train_time_s=train_s)
-        ev.walks.append(WalkResult(seed=seed, estimates=frame, metrics=score))
+        walk = WalkResult(
+            seed=seed,
+            estimates=frame,
+            metrics=score,
+            heading=res.heading if np.isfinite(res.heading).any() else None,
+            true_heading=true_headings_at(rec, res.t),
+        )
+        ev.walks.append(walk)
     return ev
 
 
@@ -481,8 +494,16 @@ def evaluate_recording(
             "true_y": true_xy[:, 1],
         }
     )
+    heading = None
+    known = np.isfinite(res.heading)
+    if known.any():
+        # Interpolated on the unwrapped angle, as the positions are, where the estimator gave one.
+        heading = np.interp(t_true, res.t[known], np.unwrap(res.heading[known]))
     return WalkResult(
-        seed=0, estimates=frame, metrics=metrics.summarize(est_at, true_xy, latencies=res.latency_s)
+        seed=0,
+        estimates=frame,
+        metrics=metrics.summarize(est_at, true_xy, latencies=res.latency_s),
+        heading=heading,
     )
 
 

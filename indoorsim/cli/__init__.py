@@ -3,13 +3,17 @@
 ::
 
     indoorsim scenarios                                   # the bundled scenarios, as a table
+    indoorsim scenarios minimal_room                      # one: its routes, surveys, sources
     indoorsim simulate minimal_room --route main --mode handheld,8:calling \\
         --device honor_50 --seed 1 --out walks/main-1     # one walk, as a recording folder
     indoorsim survey han2023_basement --kind grid --device honor_50 --seed 0 --out db/
+    indoorsim estimators                                  # each estimator and what it needs
     indoorsim plot site minimal_room my-site.yaml --out plots/
     indoorsim plot site --all --out plots/ --resolution 0.2
     indoorsim plot recording walks/main-1 trace.txt --out plots/
     indoorsim evaluate --estimator pdr-basic --scenario minimal_room --out results/
+    indoorsim evaluate --estimator chen2022-cpf:likelihood=gaussian --scenario chen2022_lab \\
+        --export tum --out results/                       # options; TUM files for evo
     indoorsim leaderboard --quick --out leaderboards/
     indoorsim realism --out leaderboards/                 # simulated motion beside real phones
     indoorsim dataset --sites 20 --walks-per-site 8 --minutes 10 --seed 0 \\
@@ -18,6 +22,7 @@
 
 One module per command group: :mod:`~indoorsim.cli.scenarios`,
 :mod:`~indoorsim.cli.simulate` (``simulate``, ``survey``),
+:mod:`~indoorsim.cli.estimators`,
 :mod:`~indoorsim.cli.plot` (``plot site``, ``plot recording``),
 :mod:`~indoorsim.cli.evaluate` (``evaluate``, ``leaderboard``),
 :mod:`~indoorsim.cli.realism` and
@@ -49,6 +54,7 @@ from typing import TYPE_CHECKING
 from indoorsim._version import __version__
 from indoorsim.cli.args import CliError
 from indoorsim.cli.dataset import add_dataset, add_train
+from indoorsim.cli.estimators import add_estimators
 from indoorsim.cli.evaluate import add_evaluate, add_leaderboard
 from indoorsim.cli.plot import add_plot
 from indoorsim.cli.realism import add_realism
@@ -65,6 +71,7 @@ _COMMANDS: tuple[Callable[[Subparsers], None], ...] = (
     add_scenarios,
     add_simulate,
     add_survey,
+    add_estimators,
     add_evaluate,
     add_leaderboard,
     add_realism,

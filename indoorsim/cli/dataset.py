@@ -127,8 +127,10 @@ def add_train(subparsers: Subparsers) -> None:
         help="train the learned-io inertial-odometry network on a data set",
         description="Train the small 1-D ResNet of the learned-io estimator (RoNIN-style "
         "velocity regression) on the train split of an `indoorsim dataset` folder, scoring "
-        "the val split after each epoch. Writes the checkpoint folder --out (weights.pt, "
-        "tensors only, and model.json) atomically after every epoch; running the same "
+        "the val split after each epoch and the test split at the end (an empty val or "
+        "test split is warned about, an empty train split refused). Writes the checkpoint "
+        "folder --out (weights.pt, tensors only, and model.json) atomically after every "
+        "epoch; running the same "
         "command again resumes an interrupted run. Seeded and deterministic on CPU for a "
         "given --threads and --workers.",
     )
@@ -200,6 +202,8 @@ def _run_train(args: argparse.Namespace) -> int:
             progress=False if args.quiet else None,
             log=None if args.quiet else lambda line: print(line, file=sys.stderr),
             command=command,
+            # Even with --quiet: a run without a validation or test loss is worth a line.
+            warn=lambda line: print(f"indoorsim: warning: {line}", file=sys.stderr),
         )
     except TrainingFolderError as err:
         raise CliError(str(err)) from None

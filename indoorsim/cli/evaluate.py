@@ -10,33 +10,26 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from indoorsim.cli.args import (
     CliError,
+    EstimatorNamesFormatter,
     add_board_folders,
     check_folder,
     device_profile,
+    estimator_options,
     mode_schedule,
     positive,
-    route_name,
+    route_or_first,
     working,
 )
 
 if TYPE_CHECKING:
+    from indoorsim.benchmark.evaluation import WalkResult
     from indoorsim.cli.args import Subparsers
 
 __all__ = ["add_evaluate", "add_leaderboard"]
-
-
-def _check_estimator(name: str) -> None:
-    """Refuse an estimator that is neither registered nor a loadable ``module:Class``."""
-    from indoorsim.estimators.base import UnknownEstimatorError, make
-
-    try:
-        make(name)
-    except UnknownEstimatorError as err:
-        raise CliError(f"--estimator: {err}") from None
 
 
 # -------------------------------------------------------------------- evaluate
@@ -71,9 +64,17 @@ def add_evaluate(subparsers: Subparsers) -> None:
         "(t, x, y, true_x, true_y) and metrics.csv, and a summary.csv. With --fail-above "
         "the exit status is 3 when any named metric (mean over seeds) is worse than its "
         "threshold: the CI use case.",
+        formatter_class=EstimatorNamesFormatter,
     )
     parser.add_argument(
-        "--estimator", required=True, metavar="NAME", help="a registered name or module:Class"
+        "--estimator",
+        required=True,
+        metavar="NAME[:K=V,...]",
+        help="a registered estimator ({estimators}) or package.module:Class, with "
+        "constructor options after a colon, values read as JSON: "
+        "chen2022-cpf:likelihood=gaussian,n_particles=500 or learned-io:checkpoint=DIR "
+        "(a folder written by indoorsim train). `indoorsim estimators` says what each "
+        "needs, `indoorsim estimators NAME` lists its options",
     )
     source = parser.add_mutually_exclusive_group(required=True)
     source.add_argument("--scenario", metavar="NAME_OR_PATH", help="a scenario to simulate")
@@ -84,7 +85,12 @@ def add_evaluate(subparsers: Subparsers) -> None:
         help="a recording (indoorsim folder or a real log) scored at its true positions",
     )
     parser.add_argument("--mode", default="handheld", help="carrying mode (default handheld)")
-    parser.add_argument("--route", default=None, help="test route (default: the first)")
+    parser.add_argument(
+        "--route",
+        default=None,
+        metavar="NAME",
+        help="test route (default: the scenario's first; indoorsim scenarios NAME lists them)",
+    )
     parser.add_argument(
         "--seeds", type=positive(int), default=3, metavar="N", help="test seeds 0..N-1"
     )
@@ -104,6 +110,18 @@ def add_evaluate(subparsers: Subparsers) -> None:
     )
     parser.add_argument("--out", type=Path, required=True, metavar="DIR")
     parser.add_argument(
+        "--export",
+        choices=("tum",),
+        help="also write each walk's estimate.tum and truth.tum beside its estimates.csv, "
+        "for evo (evo_ape tum truth.tum estimate.tum) and other SLAM tools. TUM format: one "
+        "pose per line, 'timestamp tx ty tz qx qy qz qw', space-separated, no header: the "
+        "rows of estimates.csv (the estimate at each window's end, t, x, y; the truth "
+        "true_x, true_y at the same times), z = 0. Orientation: a turn about +z by the "
+        "estimator's heading where it exposes one, else the identity (0 0 0 1); the "
+        "truth's is the true walking direction (the identity for a real log, whose rows "
+        "are its truth times, with the estimates interpolated to them)",
+    )
+    parser.add_argument(
         "--fail-above",
         type=_thresholds,
         default={},
@@ -114,60 +132,77 @@ def add_evaluate(subparsers: Subparsers) -> None:
 
 
 def _run_evaluate(args: argparse.Namespace) -> int:
+    import json
+
     import pandas as pd
 
     from indoorsim.benchmark import evaluation, leaderboard
     from indoorsim.io.recording import MissingStreamError, Recording, RecordingError
 
     check_folder(args.out)
-    _check_estimator(args.estimator)
+    name, params = estimator_options(args.estimator)
+    # Checking the options imported every estimator, learned-io's checkpoint loader among them.
+    from indoorsim.estimators.base import NotApplicableError
+    from indoorsim.estimators.nn.inertial import CheckpointError
+
     # --out is created only once there are results to write in it.
     if args.recording is not None:
         try:
             rec = Recording.load(args.recording)
         except (RecordingError, OSError) as err:
             raise CliError(f"--recording {args.recording}: {err}") from None
-        from indoorsim.estimators.base import NotApplicableError
-
         try:
             with working(f"evaluating {args.estimator}"):
-                walk = evaluation.evaluate_recording(args.estimator, rec, window_s=args.window)
+                walk = evaluation.evaluate_recording(name, rec, window_s=args.window, params=params)
         except NotApplicableError as err:
             raise CliError(f"--estimator {args.estimator}: not applicable here: {err}") from None
+        except CheckpointError as err:
+            raise _checkpoint_error(name, params, err) from None
         except (MissingStreamError, ValueError) as err:
             # A log without the truth or waypoints that scoring needs.
             raise CliError(f"--recording {args.recording}: cannot be scored: {err}") from None
         args.out.mkdir(parents=True, exist_ok=True)
         walk.estimates.to_csv(args.out / "estimates.csv", index=False)
-        summary = pd.DataFrame([{"estimator": args.estimator, **walk.metrics}])
+        if args.export == "tum":
+            _export_tum(walk, args.out)
+        summary = pd.DataFrame(
+            [{"estimator": name, "params": json.dumps(params, sort_keys=True), **walk.metrics}]
+        )
     else:
         from indoorsim.scenario.load import load_site
 
         site = load_site(args.scenario)
-        if args.route is not None:
-            route_name(site, args.route)
         mode_schedule(args.mode, one_mode=True)
         device_profile(args.device)
         device_profile(args.survey_device)
+        route = route_or_first(site, args.route)  # last: it says which route when defaulting
         from tqdm import tqdm
 
-        with tqdm(total=args.seeds, desc=args.estimator, disable=None, file=sys.stderr) as bar:
-            ev = evaluation.evaluate(
-                args.estimator,
-                site,
-                mode=args.mode,
-                seeds=tuple(range(args.seeds)),
-                route=args.route,
-                device=args.device,
-                survey_device=args.survey_device,
-                window_s=args.window,
-                train_routes=args.train_routes,
-                progress=lambda _msg: bar.update(1),  # called as each seed's walk starts
-            )
+        try:
+            with tqdm(total=args.seeds, desc=name, disable=None, file=sys.stderr) as bar:
+                ev = evaluation.evaluate(
+                    name,
+                    site,
+                    mode=args.mode,
+                    seeds=tuple(range(args.seeds)),
+                    route=route,
+                    device=args.device,
+                    survey_device=args.survey_device,
+                    window_s=args.window,
+                    train_routes=args.train_routes,
+                    params=params,
+                    progress=lambda _msg: bar.update(1),  # called as each seed's walk starts
+                )
+        except CheckpointError as err:
+            raise _checkpoint_error(name, params, err) from None
         if ev.note:
             raise CliError(f"--estimator {args.estimator}: not applicable here: {ev.note}")
         args.out.mkdir(parents=True, exist_ok=True)
         leaderboard.write_walks(ev, args.out)
+        if args.export == "tum":
+            for walk in ev.walks:
+                # The folder leaderboard.write_walks wrote the walk's estimates.csv in.
+                _export_tum(walk, args.out / f"{ev.scenario}_{ev.mode}_{name}_seed{walk.seed}")
         summary = pd.DataFrame([ev.row()])
     summary.to_csv(args.out / "summary.csv", index=False)
     shown = [c for c in ("ae", "rmse", "me", "cep50", "cep95") if c in summary]
@@ -184,6 +219,30 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _checkpoint_error(name: str, params: dict[str, Any], err: Exception) -> CliError:
+    """A checkpoint that does not load (a ``CheckpointError`` from ``fit``), as one line."""
+    option = "option checkpoint: " if "checkpoint" in params else ""
+    return CliError(f"--estimator {name}: {option}{err}")
+
+
+def _export_tum(walk: WalkResult, folder: Path) -> None:
+    """``estimate.tum`` and ``truth.tum`` of one walk in ``folder`` (see ``--export``)."""
+    from indoorsim.io.tum import write_tum
+
+    est = walk.estimates
+    t = est["t"].to_numpy(dtype=float)
+    try:
+        write_tum(folder / "estimate.tum", t, est[["x", "y"]].to_numpy(), heading=walk.heading)
+        write_tum(
+            folder / "truth.tum",
+            t,
+            est[["true_x", "true_y"]].to_numpy(),
+            heading=walk.true_heading,
+        )
+    except ValueError as err:  # times that do not increase (a real log's)
+        raise CliError(f"--export tum: {err}") from None
+
+
 # ----------------------------------------------------------------- leaderboard
 
 
@@ -195,12 +254,16 @@ def add_leaderboard(subparsers: Subparsers) -> None:
         description="Evaluate the estimators on the bundled paper scenarios in every carrying "
         "mode over several seeds, and write per scenario a Markdown table, a CSV with "
         "provenance, CDF and track plots, plus the real-data table and README.md.",
+        formatter_class=EstimatorNamesFormatter,
     )
     parser.add_argument(
         "--scenario", action="append", metavar="NAME", help="only these scenarios (repeatable)"
     )
     parser.add_argument(
-        "--estimator", action="append", metavar="NAME", help="only these estimators (repeatable)"
+        "--estimator",
+        action="append",
+        metavar="NAME",
+        help="only these estimators (repeatable): {estimators}, or package.module:Class",
     )
     parser.add_argument("--quick", action="store_true", help="one seed, two modes, no real data")
     add_board_folders(
@@ -224,8 +287,14 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
     for name in args.scenario or ():
         if name not in known:
             raise CliError(f"--scenario {name}: {UnknownScenarioError(name, known)}")
-    for name in args.estimator or ():
-        _check_estimator(name)  # a registered name or a module:Class plug-in, as for evaluate
+    for spec in args.estimator or ():
+        # A registered name or a module:Class plug-in, as for evaluate; its defaults only.
+        _, params = estimator_options(spec)
+        if params:
+            raise CliError(
+                f"--estimator {spec}: leaderboard rows use each estimator's defaults; "
+                "give options to indoorsim evaluate"
+            )
     config = (
         leaderboard.BoardConfig.quick(args.scenario)
         if args.quick

@@ -17,7 +17,7 @@ from indoorsim.cli.args import (
     check_out,
     device_profile,
     mode_schedule,
-    route_name,
+    route_or_first,
     seed_number,
     working,
 )
@@ -62,7 +62,12 @@ def add_simulate(subparsers: Subparsers) -> None:
     parser.add_argument(
         "scenario", metavar="SCENARIO", help="a bundled scenario name or a scenario YAML file"
     )
-    parser.add_argument("--route", required=True, metavar="NAME", help="a route of the scenario")
+    parser.add_argument(
+        "--route",
+        metavar="NAME",
+        help="a route of the scenario (default: its first; `indoorsim scenarios SCENARIO` "
+        "lists them)",
+    )
     parser.add_argument(
         "--mode",
         required=True,
@@ -97,9 +102,9 @@ def _run_simulate(args: argparse.Namespace) -> int:
     from indoorsim.walker.schedule import ScheduleError
 
     site = load_site(args.scenario)
-    route = route_name(site, args.route)
     mode = mode_schedule(args.mode)
     device = device_profile(args.device)
+    route = route_or_first(site, args.route)  # last: it says which route when defaulting
     try:
         with working(f"simulating {site.name}, route {route}"):
             rec = simulate(site, route=route, mode=mode, device=device, seed=args.seed)

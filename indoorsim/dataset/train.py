@@ -44,6 +44,7 @@ import json
 import math
 import platform
 import time
+import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -236,6 +237,21 @@ def _read_card(data: Path) -> tuple[dict[str, Any], str]:
     return card, hashlib.sha256(raw).hexdigest()
 
 
+def _warn(message: str) -> None:
+    warnings.warn(message, stacklevel=3)
+
+
+def _empty_split(card: dict[str, Any], split: str) -> str:
+    """Why ``split`` holds no windows, as far as the card tells."""
+    sites = card.get("splits", {}).get(split)
+    if sites:
+        return f"the {split} split's sites ({', '.join(sites)}) hold no windows"
+    return (
+        f"the {split} split holds no windows: it has no site (splits are whole sites, and "
+        "every split gets one only from 3 sites on)"
+    )
+
+
 def _input_stats(loader: DataLoader) -> tuple[list[float], list[float]]:
     """Per-channel mean and scale of the train split's IMU.
 
@@ -414,6 +430,7 @@ def train(
     progress: bool | None = None,
     log: Callable[[str], None] | None = None,
     command: str | None = None,
+    warn: Callable[[str], None] | None = None,
 ) -> TrainReport:
     """Train the inertial-odometry network on ``data`` and write the checkpoint folder ``out``.
 
@@ -427,6 +444,9 @@ def train(
         progress: show a progress bar (None: only when stderr is a terminal).
         log: receives one line per epoch (and a note when resuming).
         command: the command line that ran this, stored in ``model.json``.
+        warn: receives a line, before training starts, for an empty
+            validation or test split (training goes on without that loss);
+            None: :func:`warnings.warn`.
 
     Returns:
         What was done, with the per-epoch losses.
@@ -456,7 +476,15 @@ def train(
         }
         report.windows = {split: len(s) for split, s in streams.items()}
         if report.windows["train"] == 0:
-            raise TrainingFolderError(f"--data {data}: the train split holds no windows")
+            raise TrainingFolderError(
+                f"--data {data}: the train split holds no windows: nothing to train on"
+            )
+        for split, loss in (
+            ("val", "no validation loss after each epoch"),
+            ("test", "no test loss"),
+        ):
+            if not report.windows[split]:
+                (warn or _warn)(f"--data {data}: {_empty_split(card, split)}; {loss}")
 
         def loader(dataset: Any, batch: int) -> DataLoader:
             return DataLoader(dataset, batch_size=batch, num_workers=config.workers)

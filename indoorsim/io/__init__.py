@@ -6,7 +6,9 @@
   entry point, that :meth:`Recording.load` consults;
 * :mod:`~indoorsim.io.reallogs` — one reader module per real format;
 * :mod:`~indoorsim.io.fingerprints` — :class:`FingerprintDB`, a survey's tables;
-* :mod:`~indoorsim.io.atomic` — folders written under a temporary name, then renamed.
+* :mod:`~indoorsim.io.atomic` — folders written under a temporary name, then renamed;
+* :mod:`~indoorsim.io.tum` — trajectories as TUM files (``timestamp tx ty tz qx qy qz
+  qw``), for evo and other SLAM tools.
 """
 
 from __future__ import annotations

@@ -2,17 +2,23 @@
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
+from evo.core import metrics as evo_metrics
+from evo.core import sync
+from evo.tools import file_interface
 
 import indoorsim
 from indoorsim.cli import main
 from indoorsim.estimators.base import make
 from indoorsim.io.recording import Recording
+from indoorsim.io.tum import TumTrajectory, read_tum
 
 
 def test_evaluate_cli_writes_walks_and_fails_above_thresholds(tmp_path, capsys):
@@ -152,3 +158,85 @@ def test_unknown_names_are_refused_before_any_work(tmp_path, capsys, argv, expec
     err = capsys.readouterr().err
     assert err.startswith(f"indoorsim: {expected}"), err
     assert not out.exists()
+
+
+# ------------------------------------------------------------------ --export tum
+
+
+def _ape(est: TumTrajectory, truth: TumTrajectory) -> np.ndarray:
+    assert np.array_equal(est.t, truth.t)
+    return np.linalg.norm(est.position - truth.position, axis=1)
+
+
+def test_export_tum_writes_what_evo_reads_and_scores_as_we_do(tmp_path, capsys):
+    args = ["evaluate", "--scenario", "minimal_room", "--seeds", "1", "--device", "ideal"]
+    assert main([*args, "--estimator", "pdr-basic", "--export", "tum", "--out", str(tmp_path)]) == 0
+    assert capsys.readouterr().err.splitlines()[0] == "route: main (the only one)"
+    folder = tmp_path / "minimal_room_handheld_pdr-basic_seed0"
+    assert {p.name for p in folder.iterdir()} == {
+        "estimates.csv",
+        "metrics.csv",
+        "estimate.tum",
+        "truth.tum",
+    }
+    frame = pd.read_csv(folder / "estimates.csv")
+    metrics = pd.read_csv(folder / "metrics.csv").iloc[0]
+    est, truth = read_tum(folder / "estimate.tum"), read_tum(folder / "truth.tum")
+    # The estimates at each window's end, the truth at the same times, z = 0.
+    np.testing.assert_array_equal(est.t, frame["t"])
+    np.testing.assert_array_equal(est.position, frame[["x", "y"]].assign(z=0.0))
+    np.testing.assert_array_equal(truth.position, frame[["true_x", "true_y"]].assign(z=0.0))
+    errors = _ape(est, truth)
+    assert errors.mean() == pytest.approx(metrics["ae"], abs=1e-9)
+    assert np.sqrt((errors**2).mean()) == pytest.approx(metrics["rmse"], abs=1e-9)
+    # pdr-basic exposes a heading: a turn about +z; the truth turns with the walk (E, S, W).
+    assert not (est.orientation == [0, 0, 0, 1]).all(axis=1).all()
+    yaw = np.degrees(2 * np.arctan2(truth.orientation[:, 2], truth.orientation[:, 3]))
+    walked = np.round(np.angle(np.exp(1j * np.radians(yaw)), deg=True) / 90) % 4
+    assert {0, 2, 3} <= set(walked)
+    # evo's reader, association and APE (translation part): the same numbers.
+    ref = file_interface.read_tum_trajectory_file(str(folder / "truth.tum"))
+    traj = file_interface.read_tum_trajectory_file(str(folder / "estimate.tum"))
+    ref, traj = sync.associate_trajectories(ref, traj)
+    assert ref.num_poses == len(frame)
+    ape = evo_metrics.APE(evo_metrics.PoseRelation.translation_part)
+    ape.process_data((ref, traj))
+    stats = ape.get_all_statistics()
+    assert stats["mean"] == pytest.approx(metrics["ae"], abs=1e-9)
+    assert stats["rmse"] == pytest.approx(metrics["rmse"], abs=1e-9)
+    assert stats["max"] == pytest.approx(metrics["me"], abs=1e-9)
+    # And evo's command line, as a user runs it (it keeps its settings under $HOME).
+    evo_ape = Path(sys.executable).parent / "evo_ape"
+    (tmp_path / "home").mkdir()
+    env = {"HOME": str(tmp_path / "home"), "PATH": "/usr/bin:/bin", "MPLBACKEND": "Agg"}
+    done = subprocess.run(
+        [str(evo_ape), "tum", "truth.tum", "estimate.tum"],
+        cwd=folder,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    printed = dict(re.findall(r"^\s*(mean|rmse)\s+(\S+)$", done.stdout, flags=re.M))
+    assert float(printed["mean"]) == pytest.approx(metrics["ae"], abs=1e-6)  # 6 decimals
+    assert float(printed["rmse"]) == pytest.approx(metrics["rmse"], abs=1e-6)
+
+
+def test_export_tum_without_heading_or_true_heading_writes_identity(tmp_path, walk_folder):
+    args = ["evaluate", "--scenario", "minimal_room", "--seeds", "1", "--device", "ideal"]
+    args += ["--estimator", "start-only", "--export", "tum"]
+    assert main([*args, "--out", str(tmp_path)]) == 0
+    folder = tmp_path / "minimal_room_handheld_start-only_seed0"
+    assert (read_tum(folder / "estimate.tum").orientation == [0, 0, 0, 1]).all()
+    # A recording: the rows of its estimates.csv; its truth has positions only.
+    out = tmp_path / "rec"
+    args = ["evaluate", "--recording", str(walk_folder), "--estimator", "pdr-basic"]
+    assert main([*args, "--export", "tum", "--out", str(out)]) == 0
+    frame = pd.read_csv(out / "estimates.csv")
+    est, truth = read_tum(out / "estimate.tum"), read_tum(out / "truth.tum")
+    np.testing.assert_array_equal(est.position, frame[["x", "y"]].assign(z=0.0))
+    np.testing.assert_array_equal(truth.position, frame[["true_x", "true_y"]].assign(z=0.0))
+    assert (truth.orientation == [0, 0, 0, 1]).all()
+    errors = _ape(est, truth)
+    assert errors.mean() == pytest.approx(pd.read_csv(out / "summary.csv")["ae"].iloc[0], abs=1e-9)

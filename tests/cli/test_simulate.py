@@ -121,6 +121,41 @@ def test_an_earlier_recording_is_replaced_only_with_overwrite(tmp_path, capsys):
     assert Recording.load(out).meta["mode"] == "dangling"
 
 
+def _minimal_room_with_routes(folder: Path, routes: dict) -> Path:
+    """The minimal room with ``routes`` in place of its own."""
+    data = yaml.safe_load(bundled_scenarios()["minimal_room"].read_text(encoding="utf-8"))
+    data["routes"] = routes
+    path = folder / "routes.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
+    return path
+
+
+def test_simulate_without_route_walks_the_first_and_says_which(tmp_path, capsys):
+    argv = ["simulate", "minimal_room", "--mode", "handheld", "--device", "ideal", "--seed", "0"]
+    assert main([*argv, "--out", str(tmp_path / "only")]) == 0
+    captured = capsys.readouterr()
+    assert captured.err.splitlines()[0] == "route: main (the only one)"
+    assert "route: " not in captured.out  # stdout keeps the summary alone
+    assert Recording.load(tmp_path / "only").meta["route"]["name"] == "main"
+    two = {"short": {"waypoints": [[1, 5], [4, 5]]}, "main": {"waypoints": [[1, 5], [9, 5]]}}
+    scenario = _minimal_room_with_routes(tmp_path, two)
+    argv[1] = str(scenario)
+    assert main([*argv, "--out", str(tmp_path / "first")]) == 0
+    assert "route: short (the first of: short, main)" in capsys.readouterr().err
+    assert Recording.load(tmp_path / "first").meta["route"]["name"] == "short"
+
+
+def test_simulate_without_route_refuses_a_scenario_without_routes(tmp_path, capsys):
+    scenario = _minimal_room_with_routes(tmp_path, {})
+    argv = ["simulate", str(scenario), "--mode", "handheld", "--device", "ideal", "--seed", "0"]
+    assert main([*argv, "--out", str(tmp_path / "walk")]) == 2
+    err = capsys.readouterr().err
+    assert err == (
+        "indoorsim: scenario 'minimal_room' has no routes to walk (its 'routes:' is empty)\n"
+    )
+    assert not (tmp_path / "walk").exists()
+
+
 # ------------------------------------------------------------------- survey
 
 
