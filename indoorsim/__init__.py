@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from indoorsim import _moved
 from indoorsim._version import __version__
+from indoorsim.util import jit_cache
 
 if TYPE_CHECKING:
     from indoorsim.io.fingerprints import FingerprintDB
@@ -27,6 +28,8 @@ if TYPE_CHECKING:
     from indoorsim.scenario.schema import Scenario, ScenarioError
     from indoorsim.world.site import Site
 
+# Before any module with compiled kernels is imported: their cache lives per user.
+jit_cache.configure()
 _moved.install()
 
 _EXPORTS = {

@@ -104,6 +104,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         # argparse exits on --help, --version and usage errors; callers of
         # main() get the status back instead.
         return exit_.code if isinstance(exit_.code, int) else 2
+    if sys.stderr.isatty():
+        # A first run compiles for tens of seconds: say so at a terminal (logs stay as they were).
+        from indoorsim.util.jit_cache import announce_compiles
+
+        announce_compiles()
     try:
         return args.handler(args)
     except (CliError, ScenarioError, FileExistsError) as err:

@@ -18,7 +18,8 @@ kernel's docstring says where and how the bits differ.
 
 numba's on-disk cache does not see a change to a kernel from the cached
 functions of other modules that inline it: after editing this module, delete
-the caches (``find . -name '*.nbi' -delete``) before measuring anything.
+the cache (the folder of :func:`indoorsim.util.jit_cache.cache_dir`, by
+default ``~/.cache/indoorsim/numba``) before measuring anything.
 """
 
 from __future__ import annotations
