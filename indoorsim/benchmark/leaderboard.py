@@ -4,8 +4,9 @@
 :func:`~indoorsim.benchmark.evaluation.evaluate` runs:
 per scenario a Markdown table and a CSV (rows = estimator × mode; mean and
 spread over seeds; provenance columns), error-CDF and trajectory plots, a
-real-data table, and ``README.md`` assembled from those tables and the
-hand-written ``leaderboards/commentary.md``.
+real-data table, ``README.md`` assembled from those tables and the
+hand-written ``leaderboards/commentary.md``, and the static site ``site/``
+(:func:`~indoorsim.benchmark.results_site.write_site`).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from indoorsim.benchmark.evaluation import (
     evaluate_recording,
 )
 from indoorsim.benchmark.realism.report import RealismConfig, run_realism
+from indoorsim.benchmark.results_site import write_site
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
 from indoorsim.util.provenance import REPO, git_revision, realdata_dir
@@ -44,6 +46,7 @@ __all__ = [
     "markdown_table",
     "run_leaderboard",
     "write_real_data",
+    "write_site",
     "write_step_counts",
 ]
 
@@ -214,6 +217,7 @@ def run_leaderboard(
         )
     write_provenance(out, {"config": _jsonable_config(config)})
     write_readme(out, tables)
+    write_site(out)
     return tables
 
 

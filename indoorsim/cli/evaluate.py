@@ -2,7 +2,7 @@
 
 ``evaluate`` scores one estimator on one scenario (or a real recording) and
 can fail a CI run on a metric threshold; ``leaderboard`` regenerates the
-leaderboard tables, CSVs and plots.
+leaderboard tables, CSVs, plots and the static site (``--site-only``: the site alone).
 """
 
 from __future__ import annotations
@@ -253,7 +253,8 @@ def add_leaderboard(subparsers: Subparsers) -> None:
         help="regenerate the leaderboards (tables, CSVs, plots)",
         description="Evaluate the estimators on the bundled paper scenarios in every carrying "
         "mode over several seeds, and write per scenario a Markdown table, a CSV with "
-        "provenance, CDF and track plots, plus the real-data table and README.md.",
+        "provenance, CDF and track plots, plus the real-data table, README.md and a static "
+        "site (DIR/site/index.html: sortable, filterable tables; no network needed).",
         formatter_class=EstimatorNamesFormatter,
     )
     parser.add_argument(
@@ -266,6 +267,11 @@ def add_leaderboard(subparsers: Subparsers) -> None:
         help="only these estimators (repeatable): {estimators}, or package.module:Class",
     )
     parser.add_argument("--quick", action="store_true", help="one seed, two modes, no real data")
+    parser.add_argument(
+        "--site-only",
+        action="store_true",
+        help="only rebuild the static site (DIR/site/) from the CSVs already in --out",
+    )
     add_board_folders(
         parser,
         "the folder of real recordings for the real-data tables (default: "
@@ -283,6 +289,14 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
     from indoorsim.scenario.load import UnknownScenarioError, bundled_scenarios
 
     check_folder(args.out)
+    if args.site_only:
+        from indoorsim.benchmark.results_site import write_site
+
+        if not any(args.out.glob("*.csv")):
+            raise CliError(f"--out {args.out}: no leaderboard CSVs to build the site from")
+        pages = write_site(args.out)
+        print(f"wrote {len(pages)} pages into {args.out / 'site'}/")
+        return 0
     known = bundled_scenarios()
     for name in args.scenario or ():
         if name not in known:

@@ -119,6 +119,7 @@ def test_leaderboard_cli_takes_a_module_class_estimator(tmp_path, monkeypatch, c
     args = ["leaderboard", "--quick", "--scenario", "minimal_room", "--out", str(tmp_path / "lb")]
     assert main([*args, "--estimator", "tiny_estimator_plugin:Centre"]) == 0
     assert "tiny_estimator_plugin:Centre" in capsys.readouterr().out
+    assert (tmp_path / "lb" / "site" / "minimal_room.html").is_file()  # the site comes along
     assert main([*args, "--estimator", "no_such_module:Thing"]) == 2
     assert "cannot load estimator 'no_such_module:Thing'" in capsys.readouterr().err
 
