@@ -11,9 +11,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from indoorsim.benchmark.results_site import write_site
 from indoorsim.cli import main
-from tests.benchmark.conftest import BOARD
 
 VOID = {"meta", "link", "img", "input", "br", "hr", "source", "wbr", "col", "area", "base"}
 
@@ -119,17 +117,3 @@ def test_leaderboard_site_only_rebuilds_the_site_from_the_csvs(board, tmp_path, 
     assert (board / "site" / "index.html").is_file()
     assert main(["leaderboard", "--site-only", "--out", str(tmp_path)]) == 2
     assert "no leaderboard CSVs" in capsys.readouterr().err
-
-
-def test_the_committed_site_is_what_the_committed_csvs_give(tmp_path):
-    """``leaderboards/site/`` is regenerated with the code: rerun ``--site-only`` when not."""
-    copy = tmp_path / "leaderboards"
-    shutil.copytree(BOARD, copy, ignore=shutil.ignore_patterns("site"))
-    pages = write_site(copy)
-    committed = sorted(p.name for p in (BOARD / "site").glob("*.html"))
-    assert committed == sorted(p.name for p in pages)
-    for page in pages:
-        stale = page.read_text() != (BOARD / "site" / page.name).read_text()
-        assert not stale, (
-            f"leaderboards/site/{page.name} is stale: indoorsim leaderboard --site-only"
-        )
