@@ -1,0 +1,85 @@
+"""Bad input, as a new user hands it to the command line: one clear line, exit status 2.
+
+The rows of issue 19's table of bad inputs that did not get a clear error, each
+fed to the command that meets it. Every refusal is one line ``indoorsim: ...``
+on stderr naming what and where, with no traceback.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from indoorsim.cli import main
+from tests.conftest import BUNDLED_MINIMAL
+
+
+def _one_line_error(capsys: pytest.CaptureFixture[str]) -> str:
+    """The single ``indoorsim: ...`` line on stderr, without its prefix."""
+    err = capsys.readouterr().err
+    lines = err.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("indoorsim: "), err
+    return lines[0].removeprefix("indoorsim: ")
+
+
+def _simulate(scenario: Path, out: Path) -> int:
+    args = ["simulate", str(scenario), "--mode", "handheld", "--device", "ideal", "--seed", "1"]
+    return main([*args, "--out", str(out)])
+
+
+# ------------------------------------------------------------------ scenario files
+
+_TEXT = BUNDLED_MINIMAL.read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        (
+            _TEXT.replace("# The smallest", "# The café's smallest").encode("latin-1"),
+            "not UTF-8 text: byte 0xe9 at line 1, column 10 (byte offset 9): invalid "
+            "continuation byte; scenario files are UTF-8 YAML, this looks like text in "
+            "Latin-1 or another 8-bit encoding",
+        ),
+        (
+            bytes(range(256)),
+            "not UTF-8 text: byte 0x80 at line 2, column 118 (byte offset 128): invalid "
+            "start byte; scenario files are UTF-8 YAML, this looks like a binary file",
+        ),
+        (
+            _TEXT.replace("to: [10.0, 0.0]", "to: [1e9, 0.0]").encode(),
+            "walls[0].to[0]: 1e+09 m is beyond the coordinate limit: positions are metres in "
+            "the building frame, within ±10000 m of its origin",
+        ),
+        (
+            (_TEXT + "name: another_room\n").encode(),
+            f"name: duplicate key 'name' at line {len(_TEXT.splitlines()) + 1} (first given at "
+            "line 4); give each key once",
+        ),
+        (
+            _TEXT.replace("moment: [0.0, 0.0, 25.0]", "moment: [0.0, 0.0, 1e300]").encode(),
+            "magnetic.dipoles[0].moment: |moment| = 1e+300 A·m² is beyond the limit of 10000 "
+            "A·m² (the moment of ≈ 65 t of steel in the Earth's field, more than any object in "
+            "a building; it would clip a phone's ±4912 µT magnetometer within 0.74 m)",
+        ),
+    ],
+    ids=["latin-1", "binary", "wall-end-at-1e9-m", "duplicate-key", "dipole-1e300"],
+)
+def test_a_broken_scenario_file_is_named_with_its_key_and_problem(
+    tmp_path, capsys, content, message
+):
+    scenario = tmp_path / "site.yaml"
+    scenario.write_bytes(content)
+    assert _simulate(scenario, tmp_path / "walk") == 2
+    assert _one_line_error(capsys) == f"{scenario}: {message}"
+    assert not (tmp_path / "walk").exists()
+
+
+def test_a_folder_given_as_the_scenario_lists_its_yaml_files(tmp_path, capsys):
+    (tmp_path / "sites").mkdir()
+    (tmp_path / "sites" / "office.yaml").write_text(_TEXT)
+    assert _simulate(tmp_path / "sites", tmp_path / "walk") == 2
+    assert _one_line_error(capsys) == (
+        f"{tmp_path / 'sites'}: is a directory, expected a scenario .yaml file: one of office.yaml"
+    )
