@@ -11,9 +11,9 @@
     indoorsim plot site minimal_room my-site.yaml --out plots/
     indoorsim plot site --all --out plots/ --resolution 0.2
     indoorsim plot recording walks/main-1 trace.txt --out plots/
-    indoorsim evaluate --estimator pdr-basic --scenario minimal_room --out results/
+    indoorsim evaluate --estimator pdr-basic --scenario minimal_room --out results/pdr
     indoorsim evaluate --estimator chen2022-cpf:likelihood=gaussian --scenario chen2022_lab \\
-        --export tum --out results/                       # options; TUM files for evo
+        --export tum --out results/cpf                    # options; TUM files for evo
     indoorsim leaderboard --quick --out leaderboards/
     indoorsim realism --out leaderboards/                 # simulated motion beside real phones
     indoorsim dataset --sites 20 --walks-per-site 8 --minutes 10 --seed 0 \\

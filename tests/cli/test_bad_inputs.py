@@ -83,3 +83,53 @@ def test_a_folder_given_as_the_scenario_lists_its_yaml_files(tmp_path, capsys):
     assert _one_line_error(capsys) == (
         f"{tmp_path / 'sites'}: is a directory, expected a scenario .yaml file: one of office.yaml"
     )
+
+
+# ------------------------------------------------------------------ evaluate
+
+_EVALUATE = ["evaluate", "--estimator", "start-only", "--scenario", "minimal_room"]
+_EVALUATE += ["--seeds", "1", "--device", "ideal"]
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf"])
+def test_a_threshold_that_is_not_finite_is_refused_at_parsing(tmp_path, capsys, value):
+    out = tmp_path / "results"
+    assert main([*_EVALUATE, "--out", str(out), "--fail-above", f"rmse=1,ae={value}"]) == 2
+    err = capsys.readouterr().err
+    assert err.endswith(
+        f"indoorsim evaluate: error: argument --fail-above: 'ae={value}': "
+        "threshold must be a finite number\n"
+    )
+    assert not out.exists()
+
+
+def test_evaluate_into_earlier_results_is_refused_unless_overwrite(tmp_path, capsys):
+    out = tmp_path / "results"
+    seed1 = out / "minimal_room_handheld_start-only_seed1"
+    assert main([*_EVALUATE, "--seeds", "2", "--out", str(out)]) == 0
+    assert seed1.is_dir()
+    capsys.readouterr()
+    assert main([*_EVALUATE, "--out", str(out)]) == 2
+    assert _one_line_error(capsys) == (
+        f"--out {out}: already exists; pass --overwrite to replace it (only an earlier "
+        "evaluation is ever replaced)"
+    )
+    assert seed1.is_dir()  # untouched
+    # --overwrite replaces the folder whole: no per-seed folder of the earlier run is left.
+    assert main([*_EVALUATE, "--out", str(out), "--overwrite"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == [
+        "minimal_room_handheld_start-only_seed0",
+        "summary.csv",
+    ]
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary left
+
+
+def test_evaluate_does_not_replace_a_folder_of_something_else(tmp_path, capsys):
+    out = tmp_path / "notes"
+    out.mkdir()
+    (out / "todo.txt").write_text("keep me")
+    assert main([*_EVALUATE, "--out", str(out), "--overwrite"]) == 2
+    assert _one_line_error(capsys) == (
+        f"--out {out}: not an earlier evaluation (no summary.csv); refusing to replace it"
+    )
+    assert (out / "todo.txt").read_text() == "keep me"
