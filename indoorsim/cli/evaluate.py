@@ -162,9 +162,8 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                 "refusing to replace it"
             )
     name, params = estimator_options(args.estimator)
-    # Checking the options imported every estimator, learned-io's checkpoint loader among them.
+    # Checking the options imported every estimator.
     from indoorsim.estimators.base import NotApplicableError
-    from indoorsim.estimators.nn.inertial import CheckpointError
 
     # --out is written only once there are results, all at once (write_folder).
     if args.recording is not None:
@@ -177,8 +176,8 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                 walk = evaluation.evaluate_recording(name, rec, window_s=args.window, params=params)
         except NotApplicableError as err:
             raise CliError(f"--estimator {args.estimator}: not applicable here: {err}") from None
-        except CheckpointError as err:
-            raise _checkpoint_error(name, params, err) from None
+        except evaluation.EstimatorError as err:
+            raise _estimator_failed(name, params, err) from err
         except (MissingStreamError, ValueError) as err:
             # A log without the truth or waypoints that scoring needs.
             raise CliError(f"--recording {args.recording}: cannot be scored: {err}") from None
@@ -216,8 +215,8 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                     params=params,
                     progress=lambda _msg: bar.update(1),  # called as each seed's walk starts
                 )
-        except CheckpointError as err:
-            raise _checkpoint_error(name, params, err) from None
+        except evaluation.EstimatorError as err:
+            raise _estimator_failed(name, params, err) from err
         if ev.note:
             raise CliError(f"--estimator {args.estimator}: not applicable here: {ev.note}")
         summary = pd.DataFrame([ev.row()])
@@ -256,10 +255,18 @@ def _is_evaluation(folder: Path) -> bool:
     return (folder / "summary.csv").is_file()
 
 
-def _checkpoint_error(name: str, params: dict[str, Any], err: Exception) -> CliError:
-    """A checkpoint that does not load (a ``CheckpointError`` from ``fit``), as one line."""
-    option = "option checkpoint: " if "checkpoint" in params else ""
-    return CliError(f"--estimator {name}: {option}{err}")
+def _estimator_failed(name: str, params: dict[str, Any], err: Exception) -> CliError:
+    """An estimator that raised or gave no position (an ``EstimatorError``), as one line.
+
+    A checkpoint that does not load (a ``CheckpointError`` from ``fit``) is
+    said as the option's problem; the traceback stays in the chain for ``--debug``.
+    """
+    from indoorsim.estimators.nn.inertial import CheckpointError
+
+    if isinstance(err.__cause__, CheckpointError):
+        option = "option checkpoint: " if "checkpoint" in params else ""
+        return CliError(f"--estimator {name}: {option}{err.__cause__}")
+    return CliError(str(err))
 
 
 def _export_tum(walk: WalkResult, folder: Path) -> None:
@@ -317,6 +324,7 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from indoorsim.benchmark import leaderboard
+    from indoorsim.benchmark.evaluation import EstimatorError
     from indoorsim.scenario.load import UnknownScenarioError, bundled_scenarios
 
     check_folder(args.out)
@@ -341,13 +349,16 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
     )
     if args.estimator:
         config = dataclasses.replace(config, estimators=tuple(args.estimator))
-    with tqdm(desc="leaderboard", disable=None, file=sys.stderr) as bar:
-        tables = leaderboard.run_leaderboard(
-            config,
-            args.out,
-            progress=lambda msg: (bar.set_postfix_str(msg), bar.update(1)),
-            realdata=args.realdata,
-        )
+    try:
+        with tqdm(desc="leaderboard", disable=None, file=sys.stderr) as bar:
+            tables = leaderboard.run_leaderboard(
+                config,
+                args.out,
+                progress=lambda msg: (bar.set_postfix_str(msg), bar.update(1)),
+                realdata=args.realdata,
+            )
+    except EstimatorError as err:
+        raise CliError(str(err)) from err
     for name, table in tables.items():
         print(f"\n## {name}\n\n{leaderboard.markdown_table(table)}")
     print(f"\nwrote {args.out}/")

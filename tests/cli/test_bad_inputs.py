@@ -133,3 +133,116 @@ def test_evaluate_does_not_replace_a_folder_of_something_else(tmp_path, capsys):
         f"--out {out}: not an earlier evaluation (no summary.csv); refusing to replace it"
     )
     assert (out / "todo.txt").read_text() == "keep me"
+
+
+# ------------------------------------------------------------------ plug-in estimators
+
+_PLUGIN = """
+import numpy as np
+
+
+class Base:
+    name = "flaky"
+
+    def fit(self, site, train):
+        pass
+
+    def reset(self, start):
+        self.k = 0
+
+    def act(self, obs):
+        self.k += 1
+        return np.zeros(2)
+
+
+class InInit(Base):
+    def __init__(self):
+        raise RuntimeError("no licence file")
+
+
+class InFit(Base):
+    def fit(self, site, train):
+        raise KeyError("wifi")
+
+
+class InReset(Base):
+    def reset(self, start):
+        raise AttributeError("no start heading")
+
+
+class InAct(Base):
+    def act(self, obs):
+        if super().act(obs) is not None and self.k == 4:
+            return 1 / 0
+        return np.zeros(2)
+
+
+class NaN(Base):
+    def act(self, obs):
+        return np.array([np.nan, 1.0])
+
+
+class Shape(Base):
+    def act(self, obs):
+        return np.zeros(3)
+"""
+
+
+@pytest.fixture
+def plugin(tmp_path, monkeypatch) -> str:
+    """The module of misbehaving plug-in estimators, importable as ``flaky_plugin``."""
+    (tmp_path / "flaky_plugin.py").write_text(_PLUGIN)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    return "flaky_plugin"
+
+
+_NOT_A_POSITION = "expected a finite (x, y) array of shape (2,)"
+
+
+@pytest.mark.parametrize(
+    ("cls", "message"),
+    [
+        (
+            "InInit",
+            "--estimator flaky_plugin:InInit: raised RuntimeError in __init__(): no licence file",
+        ),
+        ("InFit", "estimator 'flaky' raised KeyError in fit(): 'wifi'"),
+        (
+            "InReset",
+            "estimator 'flaky' raised AttributeError in reset() for seed 0: no start heading",
+        ),
+        (
+            "InAct",
+            "estimator 'flaky' raised ZeroDivisionError in act() at window 3 (t = 3.99 s) of "
+            "seed 0: division by zero",
+        ),
+        (
+            "NaN",
+            "estimator 'flaky' returned array([nan,  1.]) from act() at window 0 (t = 0.99 s) "
+            f"of seed 0; {_NOT_A_POSITION}",
+        ),
+        (
+            "Shape",
+            "estimator 'flaky' returned array([0., 0., 0.]) from act() at window 0 (t = 0.99 s) "
+            f"of seed 0; {_NOT_A_POSITION}",
+        ),
+    ],
+)
+def test_a_failing_plugin_estimator_is_one_line_naming_the_call(
+    tmp_path, capsys, plugin, cls, message
+):
+    argv = ["evaluate", "--estimator", f"{plugin}:{cls}", "--scenario", "minimal_room"]
+    argv += ["--route", "main", "--seeds", "1", "--device", "ideal", "--out", str(tmp_path / "r")]
+    assert main(argv) == 2
+    assert _one_line_error(capsys) == message
+    assert not (tmp_path / "r").exists()
+
+
+def test_debug_shows_the_plugin_s_own_traceback(tmp_path, capsys, plugin):
+    argv = ["--debug", "evaluate", "--estimator", f"{plugin}:InAct", "--scenario", "minimal_room"]
+    argv += ["--route", "main", "--seeds", "1", "--device", "ideal", "--out", str(tmp_path / "r")]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("Traceback (most recent call last):")
+    assert 'flaky_plugin.py", line ' in err and "return 1 / 0" in err
+    assert err.splitlines()[-1].startswith("indoorsim: estimator 'flaky' raised ZeroDivisionError")
