@@ -246,3 +246,22 @@ def test_debug_shows_the_plugin_s_own_traceback(tmp_path, capsys, plugin):
     assert err.startswith("Traceback (most recent call last):")
     assert 'flaky_plugin.py", line ' in err and "return 1 / 0" in err
     assert err.splitlines()[-1].startswith("indoorsim: estimator 'flaky' raised ZeroDivisionError")
+
+
+# ------------------------------------------------------------------ real logs
+
+
+def test_garbage_rows_in_a_real_trace_are_counted_on_one_warning_line(tmp_path, capsys):
+    lines = ["#\tstartTime:1000000", "1000000\tTYPE_WAYPOINT\t1.5\t2.5"]
+    lines += [f"{1000000 + 20 * k}\tTYPE_ACCELEROMETER\t0.1\t0.2\t9.8\t3" for k in range(200)]
+    lines += ["1002000\tTYPE_WAYPOINT\t2.5\t2.5", "1004000\tTYPE_WAYPOINT\t3.5\t2.5"]
+    lines[50:50] = ["garbage", "1001000\tTYPE_ACCELEROMETER\t0.1\tx\t9.8\t3", "1001000\t\t\t"]
+    trace = tmp_path / "trace.txt"
+    trace.write_text("\n".join(lines) + "\n")
+    argv = ["evaluate", "--estimator", "start-only", "--recording", str(trace)]
+    assert main([*argv, "--out", str(tmp_path / "r")]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert err == [
+        f"indoorsim: warning: {trace}: skipped 3 malformed rows (1 with a field that is not a "
+        "number, 2 without a row type)"
+    ]
