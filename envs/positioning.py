@@ -133,8 +133,10 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
     dtype=float64)``: the estimated (x, y) of the phone at the *end* of the
     current window (``info["t"]`` of the coming step), in metres in the
     building frame, where ``(xmin, ymin, xmax, ymax)`` are the floor plan's
-    bounds. Estimates outside the box are scored as they are; an action
-    that is not two finite real numbers raises :class:`ValueError`.
+    bounds. An action that is not two finite real numbers, or lies outside
+    the box (more than 10 m beyond the floor plan: no estimate of a position
+    in the building), raises :class:`ValueError` saying what it was and the
+    box's bounds.
 
     ## Rewards
 
@@ -191,7 +193,9 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
     ## Version History
 
     - v0: initial version.
-    - v1: ``present`` has a seventh flag, for the game rotation vector.
+    - v1: ``present`` has a seventh flag, for the game rotation vector. Later
+      (no reward changed): an action outside the action space raises
+      ``ValueError``, where it was scored as it was.
 
     Example:
         >>> import gymnasium as gym
@@ -406,8 +410,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
         mode = ModeSchedule.of(options["mode"]) if "mode" in options else self._schedule
         return route, mode
 
-    @staticmethod
-    def _check_action(action: object) -> tuple[float, float]:
+    def _check_action(self, action: object) -> tuple[float, float]:
         """The action as two floats, or ValueError saying what was wrong."""
         expected = "expected the (x, y) position estimate in metres: 2 finite real numbers"
         try:
@@ -419,6 +422,13 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
         x, y = float(a[0]), float(a[1])
         if not (math.isfinite(x) and math.isfinite(y)):
             raise ValueError(f"non-finite action {_describe(action)}; {expected}")
+        (xlo, ylo), (xhi, yhi) = self.action_space.low, self.action_space.high
+        if not (xlo <= x <= xhi and ylo <= y <= yhi):
+            raise ValueError(
+                f"action {_describe(action)} is outside the action space: x in "
+                f"[{xlo:g}, {xhi:g}] m, y in [{ylo:g}, {yhi:g}] m (the floor plan's bounds "
+                f"± {ACTION_MARGIN_M:g} m)"
+            )
         return x, y
 
     def _new_frame(self) -> _RenderFrame:

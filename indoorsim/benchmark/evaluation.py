@@ -39,6 +39,11 @@ several seeds (per-walk estimates beside the truth, and metrics);
 :func:`evaluate_recording` does the same for a real recording, scored where it
 carries true positions. :func:`check_estimator` checks a plug-in against the
 protocol.
+
+An estimator that raises, or answers something that is not a finite (x, y),
+stops the run with :class:`EstimatorError`, which names the estimator, the
+call and, in an episode, the window, its time and the seed; what it raised is
+the error's cause.
 """
 
 from __future__ import annotations
@@ -62,7 +67,7 @@ from indoorsim.estimators.base import (
     NotApplicableError,
     SiteContext,
     StartInfo,
-    make,
+    estimator_class,
 )
 from indoorsim.io.fingerprints import FingerprintDB
 from indoorsim.io.recording import Recording
@@ -79,6 +84,70 @@ from indoorsim.world.site import Site
 # seeds are drawn from (a Gymnasium env draws below 2**31), so they never repeat one.
 SURVEY_SEED = 2**40
 TRAIN_SEED = 2**41
+
+
+class EstimatorError(ValueError):
+    """An estimator that raised, or answered something that is not a position.
+
+    The message names the estimator, the call (``__init__``, ``fit``, ``reset``
+    or ``act``) and, in an episode, the window, its time and the walk's seed:
+    ``estimator 'mine' raised ZeroDivisionError in act() at window 3 (t = 4.00
+    s) of seed 0: division by zero``. What the estimator raised is the
+    ``__cause__``, with its traceback. A ``ValueError``, as the check of
+    ``act``'s answer raised before it had a type of its own.
+
+    Attributes:
+        estimator: the estimator's name.
+        call: the method that failed, e.g. ``"act"``.
+        window: the episode's window, or None outside an episode.
+    """
+
+    def __init__(self, estimator: str, call: str, message: str, window: int | None = None):
+        self.estimator = estimator
+        self.call = call
+        self.window = window
+        super().__init__(message)
+
+    @classmethod
+    def raised(
+        cls,
+        estimator: str,
+        call: str,
+        err: BaseException,
+        where: str = "",
+        window: int | None = None,
+    ) -> EstimatorError:
+        """``estimator 'NAME' raised TYPE in CALL()[ where]: MESSAGE``."""
+        text = f"estimator {estimator!r} raised {type(err).__name__} in {call}(){where}"
+        return cls(estimator, call, f"{text}: {err}" if str(err) else text, window)
+
+
+def _label(estimator: object) -> str:
+    return str(getattr(estimator, "name", None) or type(estimator).__name__)
+
+
+def _make(spec: str, **kwargs: Any) -> Estimator:
+    """:func:`indoorsim.estimators.base.make`, a failing constructor as :class:`EstimatorError`.
+
+    Raises:
+        UnknownEstimatorError: ``spec`` names no estimator.
+        EstimatorError: its constructor raised (the cause).
+    """
+    cls = estimator_class(spec)
+    try:
+        return cls(**kwargs)
+    except Exception as err:
+        raise EstimatorError.raised(spec, "__init__", err) from err
+
+
+def _fit(estimator: Estimator, context: SiteContext, train: Sequence[Recording]) -> float:
+    """:func:`fit_timed`; a failure other than ``NotApplicableError`` as :class:`EstimatorError`."""
+    try:
+        return fit_timed(estimator, context, train)
+    except NotApplicableError:
+        raise
+    except Exception as err:
+        raise EstimatorError.raised(_label(estimator), "fit", err) from err
 
 
 def window_samples(imu_rate_hz: float, window_s: float) -> int:
@@ -240,9 +309,20 @@ def new_estimate_rows(t_ref: ArrayLike) -> NDArray[np.intp]:
 def run_episode(
     estimator: Estimator, recording: Recording, context: SiteContext, start: StartInfo
 ) -> EpisodeResult:
-    """Reset ``estimator`` and feed it every observation window of ``recording`` in order."""
+    """Reset ``estimator`` and feed it every observation window of ``recording`` in order.
+
+    Raises:
+        EstimatorError: the estimator raised in ``reset`` or ``act`` (naming the
+            window, its time and the seed), or ``act`` answered something other
+            than a finite (x, y), or it reported an ``estimate_time`` after the
+            window's end.
+    """
     windows = Windower(recording, context.window_samples, context.bssids)
-    estimator.reset(start)
+    name = _label(estimator)
+    try:
+        estimator.reset(start)
+    except Exception as err:
+        raise EstimatorError.raised(name, "reset", err, f" for seed {start.seed}") from err
     n = len(windows)
     t = np.empty(n)
     est = np.empty((n, 2))
@@ -251,17 +331,27 @@ def run_episode(
     t_ref = np.empty(n)
     for k in range(n):
         obs = windows.window(k)
+        t[k] = windows.end_time(k)
+        where = f" at window {k} (t = {t[k]:.2f} s) of seed {start.seed}"
         t0 = time.perf_counter()
-        action = np.asarray(estimator.act(obs), dtype=float)
+        try:
+            answer = estimator.act(obs)
+        except Exception as err:
+            raise EstimatorError.raised(name, "act", err, where, k) from err
         lat[k] = time.perf_counter() - t0
+        try:
+            action = np.asarray(answer, dtype=float)
+        except (TypeError, ValueError):
+            action = np.empty(0)  # not numbers: refused below like a wrong shape
         if action.shape != (2,) or not np.isfinite(action).all():
-            name = getattr(estimator, "name", estimator)
-            raise ValueError(
-                f"estimator {name!r} returned {action!r} at window {k}; "
-                "expected a finite (x, y) array of shape (2,)"
+            raise EstimatorError(
+                name,
+                "act",
+                f"estimator {name!r} returned {answer!r} from act(){where}; "
+                "expected a finite (x, y) array of shape (2,)",
+                k,
             )
         est[k] = action
-        t[k] = windows.end_time(k)
         h = getattr(estimator, "heading", None)
         if h is not None:
             heading[k] = float(h)
@@ -287,10 +377,13 @@ def _estimate_time(estimator: Estimator, t_end: float, k: int) -> float:
     # A filter's delay subtracted from the first samples' step can fall just before t0; a
     # time after the window's end would claim knowledge of the future.
     if not np.isfinite(t) or t > t_end + 1e-9:
-        name = getattr(estimator, "name", estimator)
-        raise ValueError(
+        name = _label(estimator)
+        raise EstimatorError(
+            name,
+            "act",
             f"estimator {name!r} reported estimate_time {value!r} at window {k}, "
-            f"which ends at {t_end:.3f} s; expected a finite time no later than that"
+            f"which ends at {t_end:.3f} s; expected a finite time no later than that",
+            k,
         )
     return t
 
@@ -402,13 +495,16 @@ def evaluate(
     Raises:
         UnknownRouteError: ``route`` is not one of the scenario's routes.
         UnknownModeError: ``mode`` is not a carrying mode (both are ``ValueError``).
+        EstimatorError: the estimator raised (other than ``NotApplicableError``
+            from ``fit``, which becomes the evaluation's ``note``) or answered
+            something that is not a position.
     """
     site = scenario if isinstance(scenario, Site) else load_site(scenario)
     route = route or next(iter(site.scenario.routes))
     route_spec(site, route)
     schedule = ModeSchedule.of(mode)
     ctx = site_context(site, device=device, survey_device=survey_device, window_s=window_s)
-    est = make(estimator, **(params or {}))
+    est = _make(estimator, **(params or {}))
     train = training_walks(
         site, route, mode=schedule, device=device, n=n_train, routes=train_routes
     )
@@ -426,7 +522,7 @@ def evaluate(
     }
     ev = Evaluation(estimator=estimator, scenario=site.name, mode=mode, config=config)
     try:
-        train_s = fit_timed(est, ctx, train)
+        train_s = _fit(est, ctx, train)
     except NotApplicableError as err:
         ev.note = str(err)
         return ev
@@ -476,8 +572,8 @@ def evaluate_recording(
         imu_rate_hz=rate,
         window_samples=max(1, round(rate * window_s)),
     )
-    est = make(estimator, **(params or {}))
-    est.fit(ctx, [])  # NotApplicableError propagates: a real log has no surveys or plan
+    est = _make(estimator, **(params or {}))
+    _fit(est, ctx, [])  # NotApplicableError propagates: a real log has no surveys or plan
     res = run_episode(est, recording, ctx, start_info(recording))
     truth = recording.true_positions()
     t_true = truth.index.to_numpy(dtype=float)
@@ -537,7 +633,7 @@ def check_estimator(estimator: Estimator | str) -> None:
     Raises:
         EstimatorContractError: naming the broken rule.
     """
-    est = make(estimator) if isinstance(estimator, str) else estimator
+    est = _make(estimator) if isinstance(estimator, str) else estimator
     label = getattr(est, "name", None)
     if not isinstance(label, str) or not label:
         raise EstimatorContractError(f"{est!r} has no non-empty 'name' string")
@@ -553,10 +649,8 @@ def check_estimator(estimator: Estimator | str) -> None:
     for _ in range(2):
         try:
             runs.append(run_episode(est, rec, ctx, start_info(rec, seed=7)).estimate)
-        except ValueError as err:  # run_episode's own check names the window
-            raise EstimatorContractError(f"{label}: {err}") from err
-        except Exception as err:  # raised inside the estimator's reset or act
-            raise EstimatorContractError(f"{label}: the episode failed: {err!r}") from err
+        except EstimatorError as err:  # names the call, the window and what went wrong
+            raise EstimatorContractError(f"{label}: the episode failed: {err}") from err
     if not np.array_equal(runs[0], runs[1]):
         raise EstimatorContractError(f"{label}: the same episode twice gave different estimates")
     bare = Recording(

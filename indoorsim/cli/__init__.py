@@ -11,9 +11,9 @@
     indoorsim plot site minimal_room my-site.yaml --out plots/
     indoorsim plot site --all --out plots/ --resolution 0.2
     indoorsim plot recording walks/main-1 trace.txt --out plots/
-    indoorsim evaluate --estimator pdr-basic --scenario minimal_room --out results/
+    indoorsim evaluate --estimator pdr-basic --scenario minimal_room --out results/pdr
     indoorsim evaluate --estimator chen2022-cpf:likelihood=gaussian --scenario chen2022_lab \\
-        --export tum --out results/                       # options; TUM files for evo
+        --export tum --out results/cpf                    # options; TUM files for evo
     indoorsim leaderboard --quick --out leaderboards/
     indoorsim realism --out leaderboards/                 # simulated motion beside real phones
     indoorsim dataset --sites 20 --walks-per-site 8 --minutes 10 --seed 0 \\
@@ -40,16 +40,21 @@ arguments, an unknown scenario, route, mode or device name, an invalid scenario
 or data-set configuration file, an output folder that is in the way), 3 work
 that finished but failed its goal (``evaluate``: a metric above its
 ``--fail-above`` threshold; ``dataset``: shards that still failed after their
-retries, each named). Errors are printed to stderr as one clear message,
-without a traceback.
+retries, each named), 130 interrupted (Ctrl-C). Errors are printed to stderr
+as one clear message, without a traceback; ``indoorsim --debug COMMAND`` prints
+the traceback above it (a plug-in estimator's own, where it raised). Warnings
+meant for the user (:class:`~indoorsim.util.errors.IndoorsimWarning`) are
+printed as ``indoorsim: warning: <message>``.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+import traceback
+import warnings
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TextIO
 
 from indoorsim._version import __version__
 from indoorsim.cli.args import CliError
@@ -61,6 +66,7 @@ from indoorsim.cli.realism import add_realism
 from indoorsim.cli.scenarios import add_scenarios
 from indoorsim.cli.simulate import add_simulate, add_survey
 from indoorsim.scenario.schema import ScenarioError
+from indoorsim.util.errors import IndoorsimWarning
 
 if TYPE_CHECKING:
     from indoorsim.cli.args import Subparsers
@@ -89,6 +95,11 @@ def build_parser() -> argparse.ArgumentParser:
         description="Simulate smartphone indoor positioning in synthetic buildings.",
     )
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    parser.add_argument(
+        "--debug",
+        action="store_true",
+        help="on an error, print its traceback (a plug-in's own among it) above the message",
+    )
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for add in _COMMANDS:
         add(subparsers)
@@ -110,11 +121,43 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         announce_compiles()
     try:
-        return args.handler(args)
+        with warnings.catch_warnings():
+            warnings.showwarning = _one_line_warnings(warnings.showwarning)
+            return args.handler(args)
     except (CliError, ScenarioError, FileExistsError) as err:
         # FileExistsError: an output folder in the way, which only the user can clear.
-        print(f"indoorsim: {err}", file=sys.stderr)
+        _report(err, debug=args.debug)
         return 2
     except OSError as err:
-        print(f"indoorsim: {err}", file=sys.stderr)
+        _report(err, debug=args.debug)
         return 1
+    except KeyboardInterrupt as err:
+        # A command that can say what was kept raises a KeyboardInterrupt that says so.
+        _report(err if str(err) else KeyboardInterrupt("interrupted"), debug=args.debug)
+        return 130
+
+
+def _report(err: BaseException, *, debug: bool) -> None:
+    """``indoorsim: <message>`` on stderr; with ``--debug``, the traceback above it."""
+    if debug:
+        traceback.print_exception(err, file=sys.stderr)
+    print(f"indoorsim: {err}", file=sys.stderr)
+
+
+def _one_line_warnings(show: Callable[..., None]) -> Callable[..., None]:
+    """``show`` (a ``warnings.showwarning``), but a warning for the user as one line."""
+
+    def showwarning(
+        message: Warning | str,
+        category: type[Warning],
+        filename: str,
+        lineno: int,
+        file: TextIO | None = None,
+        line: str | None = None,
+    ) -> None:
+        if issubclass(category, IndoorsimWarning):
+            print(f"indoorsim: warning: {message}", file=sys.stderr)
+        else:
+            show(message, category, filename, lineno, file, line)
+
+    return showwarning

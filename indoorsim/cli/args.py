@@ -226,8 +226,9 @@ def estimator_options(text: str) -> tuple[str, dict[str, Any]]:
     neither registered nor a loadable ``module:Class``; an option its
     constructor does not take; a value of the wrong kind for an option typed
     ``bool``, ``int``, ``float``, ``str``, ``None``, a ``Literal`` or a class
-    (nothing else can be built on the command line); and whatever the
-    constructor itself refuses (its ``TypeError`` or ``ValueError``).
+    (nothing else can be built on the command line); whatever the constructor
+    itself refuses (its ``TypeError`` or ``ValueError``); and a constructor that
+    raises anything else, or raises without options (``raised TYPE in __init__()``).
     """
     import inspect
 
@@ -265,8 +266,17 @@ def estimator_options(text: str) -> tuple[str, dict[str, Any]]:
     try:
         cls(**params)
     except (TypeError, ValueError) as err:
-        raise CliError(f"{label}: {_culprits(cls, params)}{err}") from None
+        if params:
+            raise CliError(f"{label}: {_culprits(cls, params)}{err}") from None
+        raise CliError(f"{label}: {_raised(err)}") from err
+    except Exception as err:  # a plug-in's own failure: kept in the chain for --debug
+        raise CliError(f"{label}: {_raised(err)}") from err
     return name, params
+
+
+def _raised(err: Exception) -> str:
+    text = f"raised {type(err).__name__} in __init__()"
+    return f"{text}: {err}" if str(err) else text
 
 
 def option_hints(cls: Any) -> dict[str, Any]:

@@ -101,6 +101,7 @@ def _run_dataset(args: argparse.Namespace) -> int:
             workers=args.workers,
             scheduler=args.scheduler,
             progress=False if args.quiet else None,
+            dask_logs=args.debug,
         )
     except DatasetFolderError as err:
         raise CliError(str(err)) from None

@@ -8,6 +8,7 @@ leaderboard tables, CSVs, plots and the static site (``--site-only``: the site a
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -17,6 +18,7 @@ from indoorsim.cli.args import (
     EstimatorNamesFormatter,
     add_board_folders,
     check_folder,
+    check_out,
     device_profile,
     estimator_options,
     mode_schedule,
@@ -48,9 +50,13 @@ def _thresholds(text: str) -> dict[str, float]:
                 f"{item!r}: expected METRIC=VALUE with METRIC one of {', '.join(SUMMARY_KEYS)}"
             )
         try:
-            out[name] = float(value)
+            limit = float(value)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{item!r}: {value!r} is not a number") from None
+        if not math.isfinite(limit):
+            # No metric exceeds inf, and NaN compares false with everything.
+            raise argparse.ArgumentTypeError(f"{item!r}: threshold must be a finite number")
+        out[name] = limit
     return out
 
 
@@ -63,7 +69,8 @@ def add_evaluate(subparsers: Subparsers) -> None:
         "training walks, then one test walk per seed. Writes per walk estimates.csv "
         "(t, x, y, true_x, true_y) and metrics.csv, and a summary.csv. With --fail-above "
         "the exit status is 3 when any named metric (mean over seeds) is worse than its "
-        "threshold: the CI use case.",
+        "threshold: the CI use case. An --out that exists is refused, as simulate refuses "
+        "it, unless --overwrite; the results are written all at once when they are complete.",
         formatter_class=EstimatorNamesFormatter,
     )
     parser.add_argument(
@@ -110,6 +117,12 @@ def add_evaluate(subparsers: Subparsers) -> None:
     )
     parser.add_argument("--out", type=Path, required=True, metavar="DIR")
     parser.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace an earlier evaluation's results at --out, the whole folder (its "
+        "per-seed folders too, so that runs never mix)",
+    )
+    parser.add_argument(
         "--export",
         choices=("tum",),
         help="also write each walk's estimate.tum and truth.tum beside its estimates.csv, "
@@ -137,15 +150,22 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     import pandas as pd
 
     from indoorsim.benchmark import evaluation, leaderboard
+    from indoorsim.io.atomic import write_folder
     from indoorsim.io.recording import MissingStreamError, Recording, RecordingError
 
-    check_folder(args.out)
+    check_out(args.out, overwrite=args.overwrite, what="evaluation")
+    if args.overwrite and args.out.is_dir() and any(args.out.iterdir()):
+        if not _is_evaluation(args.out):
+            # write_folder would refuse it too, but only after the slow work.
+            raise CliError(
+                f"--out {args.out}: not an earlier evaluation (no summary.csv); "
+                "refusing to replace it"
+            )
     name, params = estimator_options(args.estimator)
-    # Checking the options imported every estimator, learned-io's checkpoint loader among them.
+    # Checking the options imported every estimator.
     from indoorsim.estimators.base import NotApplicableError
-    from indoorsim.estimators.nn.inertial import CheckpointError
 
-    # --out is created only once there are results to write in it.
+    # --out is written only once there are results, all at once (write_folder).
     if args.recording is not None:
         try:
             rec = Recording.load(args.recording)
@@ -156,18 +176,20 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                 walk = evaluation.evaluate_recording(name, rec, window_s=args.window, params=params)
         except NotApplicableError as err:
             raise CliError(f"--estimator {args.estimator}: not applicable here: {err}") from None
-        except CheckpointError as err:
-            raise _checkpoint_error(name, params, err) from None
+        except evaluation.EstimatorError as err:
+            raise _estimator_failed(name, params, err) from err
         except (MissingStreamError, ValueError) as err:
             # A log without the truth or waypoints that scoring needs.
             raise CliError(f"--recording {args.recording}: cannot be scored: {err}") from None
-        args.out.mkdir(parents=True, exist_ok=True)
-        walk.estimates.to_csv(args.out / "estimates.csv", index=False)
-        if args.export == "tum":
-            _export_tum(walk, args.out)
         summary = pd.DataFrame(
             [{"estimator": name, "params": json.dumps(params, sort_keys=True), **walk.metrics}]
         )
+
+        def write(folder: Path) -> None:
+            walk.estimates.to_csv(folder / "estimates.csv", index=False)
+            if args.export == "tum":
+                _export_tum(walk, folder)
+            summary.to_csv(folder / "summary.csv", index=False)
     else:
         from indoorsim.scenario.load import load_site
 
@@ -193,18 +215,27 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                     params=params,
                     progress=lambda _msg: bar.update(1),  # called as each seed's walk starts
                 )
-        except CheckpointError as err:
-            raise _checkpoint_error(name, params, err) from None
+        except evaluation.EstimatorError as err:
+            raise _estimator_failed(name, params, err) from err
         if ev.note:
             raise CliError(f"--estimator {args.estimator}: not applicable here: {ev.note}")
-        args.out.mkdir(parents=True, exist_ok=True)
-        leaderboard.write_walks(ev, args.out)
-        if args.export == "tum":
-            for walk in ev.walks:
-                # The folder leaderboard.write_walks wrote the walk's estimates.csv in.
-                _export_tum(walk, args.out / f"{ev.scenario}_{ev.mode}_{name}_seed{walk.seed}")
         summary = pd.DataFrame([ev.row()])
-    summary.to_csv(args.out / "summary.csv", index=False)
+
+        def write(folder: Path) -> None:
+            leaderboard.write_walks(ev, folder)
+            if args.export == "tum":
+                for walk in ev.walks:
+                    # The folder leaderboard.write_walks wrote the walk's estimates.csv in.
+                    _export_tum(walk, folder / f"{ev.scenario}_{ev.mode}_{name}_seed{walk.seed}")
+            summary.to_csv(folder / "summary.csv", index=False)
+
+    write_folder(
+        args.out,
+        write,
+        overwrite=args.overwrite,
+        is_ours=_is_evaluation,
+        what="evaluation",
+    )
     shown = [c for c in ("ae", "rmse", "me", "cep50", "cep95") if c in summary]
     print(summary[["estimator", *shown]].to_string(index=False, float_format=lambda v: f"{v:.2f}"))
     worse = {
@@ -219,10 +250,23 @@ def _run_evaluate(args: argparse.Namespace) -> int:
     return 0
 
 
-def _checkpoint_error(name: str, params: dict[str, Any], err: Exception) -> CliError:
-    """A checkpoint that does not load (a ``CheckpointError`` from ``fit``), as one line."""
-    option = "option checkpoint: " if "checkpoint" in params else ""
-    return CliError(f"--estimator {name}: {option}{err}")
+def _is_evaluation(folder: Path) -> bool:
+    """Whether ``folder`` holds the results of an earlier ``evaluate`` (its summary.csv)."""
+    return (folder / "summary.csv").is_file()
+
+
+def _estimator_failed(name: str, params: dict[str, Any], err: Exception) -> CliError:
+    """An estimator that raised or gave no position (an ``EstimatorError``), as one line.
+
+    A checkpoint that does not load (a ``CheckpointError`` from ``fit``) is
+    said as the option's problem; the traceback stays in the chain for ``--debug``.
+    """
+    from indoorsim.estimators.nn.inertial import CheckpointError
+
+    if isinstance(err.__cause__, CheckpointError):
+        option = "option checkpoint: " if "checkpoint" in params else ""
+        return CliError(f"--estimator {name}: {option}{err.__cause__}")
+    return CliError(str(err))
 
 
 def _export_tum(walk: WalkResult, folder: Path) -> None:
@@ -286,6 +330,7 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from indoorsim.benchmark import leaderboard
+    from indoorsim.benchmark.evaluation import EstimatorError
     from indoorsim.scenario.load import UnknownScenarioError, bundled_scenarios
 
     check_folder(args.out)
@@ -318,13 +363,16 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
     )
     if args.estimator:
         config = dataclasses.replace(config, estimators=tuple(args.estimator))
-    with tqdm(desc="leaderboard", disable=None, file=sys.stderr) as bar:
-        tables = leaderboard.run_leaderboard(
-            config,
-            args.out,
-            progress=lambda msg: (bar.set_postfix_str(msg), bar.update(1)),
-            realdata=args.realdata,
-        )
+    try:
+        with tqdm(desc="leaderboard", disable=None, file=sys.stderr) as bar:
+            tables = leaderboard.run_leaderboard(
+                config,
+                args.out,
+                progress=lambda msg: (bar.set_postfix_str(msg), bar.update(1)),
+                realdata=args.realdata,
+            )
+    except EstimatorError as err:
+        raise CliError(str(err)) from err
     for name, table in tables.items():
         print(f"\n## {name}\n\n{leaderboard.markdown_table(table)}")
     print(f"\nwrote {args.out}/")

@@ -24,7 +24,17 @@ system).
 
 Failed shards are reported by name with their exception
 (:class:`ShardFailures`); the finished shards stay, and running the same
-command again computes only what is missing.
+command again computes only what is missing. An interrupted run (Ctrl-C)
+closes its cluster and raises :class:`DatasetInterrupted`, which says how many
+shards are complete and kept.
+
+Dask's own log lines (a worker's "Compute Failed" with its traceback, for each
+retry of a shard that fails on a full disk) are silenced for the run: the
+failures are reported by name instead, and recorded in ``run_log.json``. The
+worker processes of a local cluster, once started, ignore SIGINT, which Ctrl-C
+sends to every process of the terminal's group: the driver handles it and
+closes them, where each would print the traceback of its event loop
+(:class:`_DriverHandlesInterrupt`).
 
 Workers run single-threaded numerical libraries (OpenMP, MKL, OpenBLAS, torch
 and, where installed, whatever ``threadpoolctl`` controls): the environment of
@@ -49,6 +59,7 @@ import json
 import logging
 import os
 import platform
+import signal
 import sys
 import time
 from collections.abc import Iterator
@@ -72,7 +83,13 @@ from indoorsim.dataset.shard import (
     shard_is_complete,
 )
 
-__all__ = ["BuildReport", "DatasetFolderError", "ShardFailures", "build_dataset"]
+__all__ = [
+    "BuildReport",
+    "DatasetFolderError",
+    "DatasetInterrupted",
+    "ShardFailures",
+    "build_dataset",
+]
 
 CONFIG_FILE = "config.json"
 RUN_LOG = "run_log.json"
@@ -107,6 +124,10 @@ class ShardFailures(RuntimeError):
             f"({done} are complete and kept; run the same command again to retry):\n"
             + "\n".join(lines)
         )
+
+
+class DatasetInterrupted(KeyboardInterrupt):
+    """A run stopped by Ctrl-C after its cluster closed; the message says what is kept."""
 
 
 @dataclass
@@ -257,8 +278,50 @@ class _QuickExit(WorkerPlugin):
             os._exit(0)
 
 
+class _DriverHandlesInterrupt(WorkerPlugin):
+    """Worker plugin for the worker processes of our own local cluster: ignore SIGINT.
+
+    Ctrl-C sends SIGINT to every process of the terminal's process group, the
+    Dask workers among them; the driver stops the run and closes the cluster
+    (the shard a worker is writing is atomic: it is written whole or not at
+    all), where each worker would print the traceback of its interrupted event
+    loop. The driver's own process (in-process workers) is left alone. Not used
+    on an existing cluster, whose processes are not ours. A worker interrupted
+    before this setup has run (in the first seconds of a run, while it imports)
+    still prints its traceback: only SIG_IGN survives the exec that starts it,
+    and ignoring SIGINT in the driver meanwhile would lose the Ctrl-C.
+    """
+
+    idempotent = True
+    name = "indoorsim-driver-handles-interrupt"
+
+    def __init__(self) -> None:
+        self._driver = os.getpid()
+
+    def setup(self, worker: Any) -> None:
+        if os.getpid() != self._driver:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 @contextlib.contextmanager
-def _client(workers: int | None, scheduler: str | None) -> Iterator[Client]:
+def _quiet_dask_logs(quiet: bool) -> Iterator[None]:
+    """Raise the level of the ``distributed`` logger's stream handlers past ERROR, then restore."""
+    handlers = [
+        h for h in logging.getLogger("distributed").handlers if isinstance(h, logging.StreamHandler)
+    ]
+    before = [h.level for h in handlers]
+    try:
+        if quiet:
+            for handler in handlers:
+                handler.setLevel(logging.CRITICAL + 1)
+        yield
+    finally:
+        for handler, level in zip(handlers, before, strict=True):
+            handler.setLevel(level)
+
+
+@contextlib.contextmanager
+def _client(workers: int | None, scheduler: str | None, quiet: bool = True) -> Iterator[Client]:
     if scheduler is not None:
         with Client(scheduler, set_as_default=False) as client:
             client.register_plugin(_SingleThreaded(), name=_SingleThreaded.name)
@@ -288,12 +351,14 @@ def _client(workers: int | None, scheduler: str | None) -> Iterator[Client]:
                 threads_per_worker=1,
                 processes=True,
                 dashboard_address=None,
-                silence_logs=logging.ERROR,
+                # In the workers' processes too: the driver reports failures itself.
+                silence_logs=logging.CRITICAL + 1 if quiet else logging.ERROR,
             ) as cluster,
             Client(cluster, set_as_default=False) as client,
         ):
             client.register_plugin(_SingleThreaded(), name=_SingleThreaded.name)
             client.register_plugin(_QuickExit(), name=_QuickExit.name)
+            client.register_plugin(_DriverHandlesInterrupt(), name=_DriverHandlesInterrupt.name)
             yield client
 
 
@@ -304,6 +369,7 @@ def build_dataset(
     workers: int | None = None,
     scheduler: str | None = None,
     progress: bool | None = None,
+    dask_logs: bool = False,
 ) -> BuildReport:
     """Generate (or resume) the data set of ``config`` in ``out``.
 
@@ -314,6 +380,7 @@ def build_dataset(
             with ``scheduler``.
         scheduler: address of an existing Dask scheduler (``tcp://host:8786``).
         progress: show a progress bar (None: only when stderr is a terminal).
+        dask_logs: let Dask's own log lines (ERROR and above) through to stderr.
 
     Returns:
         What was done; the card is written when every shard is complete.
@@ -321,6 +388,8 @@ def build_dataset(
     Raises:
         DatasetFolderError: ``out`` cannot take this data set.
         ShardFailures: some shards failed after their retries (the others are kept).
+        DatasetInterrupted: Ctrl-C (a ``KeyboardInterrupt``), once the cluster
+            has closed; the finished shards are kept.
     """
     from tqdm import tqdm
 
@@ -344,43 +413,53 @@ def build_dataset(
 
     if todo:
         config_json = config.to_json()
-        with (
-            _client(workers, scheduler) as client,
-            tqdm(
-                total=len(plan.shards),
-                initial=len(sidecars),
-                unit="shard",
-                desc="dataset",
-                disable=None if progress is None else not progress,
-                file=sys.stderr,
-            ) as bar,
-        ):
-            run_id = f"{os.getpid()}-{time.time_ns()}"
-            futures = {
-                client.submit(
-                    run_shard,
-                    config_json,
-                    shard.to_json(),
-                    str(root),
-                    key=f"{shard.name}-{run_id}",
-                    retries=config.retries,
-                    pure=False,
-                ): shard.name
-                for shard in todo
-            }
-            for future in as_completed(futures, loop=client.loop):
-                name = futures[future]
-                if future.status == "error":
-                    err = future.exception()
-                    report.failures.append(ShardFailure(name, f"{type(err).__name__}: {err}"))
-                else:
-                    result = future.result()
-                    report.timings[name] = result.pop("timing")
-                    sidecars[name] = result
-                    report.computed += 1
-                    bar.set_postfix_str(name)
-                bar.update(1)
-                future.release()
+        try:
+            with (
+                _quiet_dask_logs(not dask_logs),
+                _client(workers, scheduler, quiet=not dask_logs) as client,
+                tqdm(
+                    total=len(plan.shards),
+                    initial=len(sidecars),
+                    unit="shard",
+                    desc="dataset",
+                    disable=None if progress is None else not progress,
+                    file=sys.stderr,
+                ) as bar,
+            ):
+                run_id = f"{os.getpid()}-{time.time_ns()}"
+                futures = {
+                    client.submit(
+                        run_shard,
+                        config_json,
+                        shard.to_json(),
+                        str(root),
+                        key=f"{shard.name}-{run_id}",
+                        retries=config.retries,
+                        pure=False,
+                    ): shard.name
+                    for shard in todo
+                }
+                for future in as_completed(futures, loop=client.loop):
+                    name = futures[future]
+                    if future.status == "error":
+                        err = future.exception()
+                        report.failures.append(ShardFailure(name, f"{type(err).__name__}: {err}"))
+                    else:
+                        result = future.result()
+                        report.timings[name] = result.pop("timing")
+                        sidecars[name] = result
+                        report.computed += 1
+                        bar.set_postfix_str(name)
+                    bar.update(1)
+                    future.release()
+        except KeyboardInterrupt:
+            # Here the cluster has closed (the with statement's exits), and a shard
+            # may have finished meanwhile: its sidecar, written last, says so.
+            done = sum((root / SHARDS_DIR / f"{s.name}.json").is_file() for s in plan.shards)
+            raise DatasetInterrupted(
+                f"interrupted: {done} of {len(plan.shards)} shards are complete and kept in "
+                f"{root}; run the same command again to resume"
+            ) from None
     report.failures.sort(key=lambda f: f.name)
     report.windows = sum(int(s["rows"]) for s in sidecars.values())
     report.hours = covered_hours(

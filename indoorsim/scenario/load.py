@@ -95,42 +95,137 @@ def load_scenario(path: str | Path) -> Scenario:
     """Load and fully validate a scenario YAML file.
 
     Raises:
-        ScenarioError: for a missing file, a YAML syntax error (with its line),
-            or any schema or geometry problem.
+        ScenarioError: for a missing file or a folder, a file that is not UTF-8
+            (with the byte's line, column and offset), a YAML syntax error (with its
+            line), a key given twice in one mapping (with both lines), or any
+            schema or geometry problem.
     """
     path = Path(path)
     source = str(path)
+    if path.is_dir():
+        raise ScenarioError(source, [("", _directory_problem(path))])
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as err:
         raise ScenarioError(source, [("", f"cannot read file: {err.strerror or err}")]) from None
+    except UnicodeDecodeError as err:
+        raise ScenarioError(source, [("", _encoding_problem(err))]) from None
     try:
-        data = _load_yaml(text)
+        data, duplicates = _load_yaml(text)
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
         problem = getattr(err, "problem", None) or str(err)
         raise ScenarioError(source, [("", f"YAML syntax error at {where}{problem}")]) from None
+    if duplicates:
+        raise ScenarioError(source, duplicates)
     return parse_scenario(data, source)
+
+
+def _directory_problem(path: Path) -> str:
+    """What to say when a scenario path is a folder: the YAML files in it, if any."""
+    names = sorted(p.name for p in path.iterdir() if p.suffix in (".yaml", ".yml"))
+    if not names:
+        return "is a directory, expected a scenario .yaml file (it holds no .yaml files)"
+    shown = ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
+    return f"is a directory, expected a scenario .yaml file: one of {shown}"
+
+
+def _encoding_problem(err: UnicodeDecodeError) -> str:
+    """Where a file stops being UTF-8: the byte, its line and column, and its offset."""
+    raw = bytes(err.object)
+    line = raw.count(b"\n", 0, err.start) + 1
+    column = err.start - (raw.rfind(b"\n", 0, err.start) + 1) + 1
+    head = raw[:8192]
+    # Text in any 8-bit encoding has few control characters; a binary file many.
+    control = sum(1 for b in head if b < 0x20 and b not in b"\t\n\r")
+    binary = b"\0" in head or control > 0.05 * len(head)
+    kind = "a binary file" if binary else "text in Latin-1 or another 8-bit encoding"
+    return (
+        f"not UTF-8 text: byte 0x{raw[err.start]:02x} at line {line}, column {column} (byte "
+        f"offset {err.start}): {err.reason}; scenario files are UTF-8 YAML, this looks "
+        f"like {kind}"
+    )
 
 
 # libyaml's parser when PyYAML was built with it: the same safe constructors, at
 # a fraction of the pure-Python parser's time.
 _FastSafeLoader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+_MERGE_TAG = "tag:yaml.org,2002:merge"
 
 
-def _load_yaml(text: str) -> Any:
-    """``yaml.safe_load(text)``, parsed by libyaml when available.
+def _load_yaml(text: str) -> tuple[Any, list[tuple[str, str]]]:
+    """``yaml.safe_load(text)``, parsed by libyaml when available, and its duplicate keys.
 
     A document libyaml rejects is parsed again by the pure-Python parser, so
-    syntax errors are reported exactly as ``yaml.safe_load`` reports them.
+    syntax errors are reported exactly as ``yaml.safe_load`` reports them. A
+    document with a key given twice in one mapping (which YAML forbids, and
+    PyYAML would resolve silently by keeping the last) is not constructed: the
+    duplicates come back as ``(key path, message)`` instead.
     """
     try:
-        return yaml.load(text, Loader=_FastSafeLoader)
+        return _compose_and_construct(text, _FastSafeLoader)
     except yaml.YAMLError:
         if _FastSafeLoader is yaml.SafeLoader:
             raise
-        return yaml.safe_load(text)
+        return _compose_and_construct(text, yaml.SafeLoader)
+
+
+def _compose_and_construct(text: str, loader_class: Any) -> tuple[Any, list[tuple[str, str]]]:
+    loader = loader_class(text)
+    try:
+        node = loader.get_single_node()
+        if node is None:  # an empty document
+            return None, []
+        duplicates = _duplicate_keys(node)
+        return (None if duplicates else loader.construct_document(node)), duplicates
+    finally:
+        loader.dispose()
+
+
+def _duplicate_keys(root: yaml.Node) -> list[tuple[str, str]]:
+    """Keys given twice in one mapping, as ``(key path, message)`` with both lines."""
+    problems: list[tuple[int, str, str]] = []  # (line, key path, message)
+    visited: set[int] = set()  # an anchored node is checked once, wherever it is used
+    pending: list[tuple[yaml.Node, list[Any]]] = [(root, [])]
+    while pending:
+        node, loc = pending.pop()
+        if id(node) in visited:
+            continue
+        visited.add(id(node))
+        if isinstance(node, yaml.SequenceNode):
+            pending.extend((item, [*loc, i]) for i, item in enumerate(node.value))
+        elif isinstance(node, yaml.MappingNode):
+            first: dict[tuple[str, str], yaml.Mark] = {}
+            for key_node, value_node in node.value:
+                if key_node.tag == _MERGE_TAG or not isinstance(key_node, yaml.ScalarNode):
+                    # Merged keys (<<) may be overridden: only the mapping's own keys count.
+                    pending.append((value_node, loc))
+                    continue
+                key, mark = (key_node.tag, key_node.value), key_node.start_mark
+                if key in first:
+                    before = first[key]
+                    # The column too where both are on one line (a flow mapping).
+                    here, there = (
+                        (f"line {mark.line + 1}", f"line {before.line + 1}")
+                        if mark.line != before.line
+                        else (
+                            f"line {mark.line + 1}, column {mark.column + 1}",
+                            f"column {before.column + 1}",
+                        )
+                    )
+                    problems.append(
+                        (
+                            mark.line,
+                            key_path([*loc, key_node.value]),
+                            f"duplicate key {key_node.value!r} at {here} (first given at "
+                            f"{there}); give each key once",
+                        )
+                    )
+                else:
+                    first[key] = mark
+                pending.append((value_node, [*loc, key_node.value]))
+    return [(path, message) for _, path, message in sorted(problems)]
 
 
 class _FlowListDumper(yaml.SafeDumper):
@@ -232,12 +327,15 @@ def resolve_scenario(name_or_path: str | Path) -> Path:
 
     Raises:
         UnknownScenarioError: neither a known name nor an existing file; lists the names.
-        ScenarioError: a ``.yaml``/``.yml`` path that is not a file.
+        ScenarioError: a ``.yaml``/``.yml`` path that is not a file, or a folder
+            (the message lists the YAML files in it).
     """
     known = bundled_scenarios()
     if str(name_or_path) in known:
         return known[str(name_or_path)]
     path = Path(name_or_path)
+    if path.is_dir():
+        raise ScenarioError(str(path), [("", _directory_problem(path))])
     if path.suffix in (".yaml", ".yml") or path.exists():
         if not path.is_file():
             raise ScenarioError(str(path), [("", "no such file")])

@@ -7,7 +7,9 @@ complete one; its keys keep their meaning as the schema grows.
 
 Units: metres, degrees, cd, A·m², µT, dBm, m³. Frame: the building frame, x
 along the building's +x axis, y along its +y axis (``site.north_deg`` clockwise
-from true north), z up from the floor.
+from true north), z up from the floor. Values far outside physical sense are
+refused: positions beyond ±10 km (:data:`MAX_COORDINATE_M`), dipole moments
+beyond 10⁴ A·m² (:data:`MAX_DIPOLE_MOMENT_AM2`).
 
 This module is the bottom layer of the package (DESIGN §1): the world, walker
 and phone read these specs, and it imports none of them.
@@ -21,9 +23,18 @@ import re
 from collections.abc import Iterable, Sequence
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    field_validator,
+    model_validator,
+)
 
 __all__ = [
+    "MAX_COORDINATE_M",
+    "MAX_DIPOLE_MOMENT_AM2",
     "DoorSpec",
     "GridSurveySpec",
     "LightSpec",
@@ -82,11 +93,47 @@ def key_path(loc: Iterable[Any]) -> str:
 
 # --------------------------------------------------------------------------- schema
 
+MAX_COORDINATE_M = 10_000.0
+"""The largest |x|, |y| or |z| of any position in a scenario, m.
+
+The largest buildings on one floor are about a kilometre long; 10 km leaves
+room for a site whose origin is far from the building (a campus grid) while
+refusing what is surely a typo or a unit mix-up (millimetres for metres,
+1e9 for 1e0), which would otherwise surface as a grid of 10⁹ nodes deep in the
+radio or magnetic model."""
+
+MAX_DIPOLE_MOMENT_AM2 = 1.0e4
+"""The largest |moment| of an explicit magnetic dipole, A·m².
+
+Steel magnetised by the Earth's field (|H| ≈ 40 A/m) along its bars, at the
+schema's default susceptibility 30, carries ≈ 1200 A·m² per m³: a reinforced
+column's storey (0.015 m³) ≈ 18 A·m². 10⁴ A·m² is the moment of ≈ 8 m³
+(≈ 65 t) of steel magnetised as one, more than any one object in a building.
+Its on-axis field, μ0/4π · 2m/r³, is 2000 µT at 1 m and saturates a ±4912 µT
+phone magnetometer within 0.74 m: larger moments would only clip the
+magnetometer everywhere near them."""
+
+
+def _within_site(value: float) -> float:
+    if abs(value) > MAX_COORDINATE_M:
+        raise ValueError(
+            f"{value:g} m is beyond the coordinate limit: positions are metres in the "
+            f"building frame, within ±{MAX_COORDINATE_M:g} m of its origin"
+        )
+    return value
+
+
 FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
 PositiveFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
-Vec2 = tuple[FiniteFloat, FiniteFloat]
+Coordinate = Annotated[float, Field(allow_inf_nan=False), AfterValidator(_within_site)]
+"""A position's x, y or z, m: finite and within ±:data:`MAX_COORDINATE_M`."""
+Vec2 = tuple[Coordinate, Coordinate]
+"""A point (x, y) in the building frame, m."""
+Point3 = tuple[Coordinate, Coordinate, Coordinate]
+"""A point (x, y, z) in the building frame, m."""
 Vec3 = tuple[FiniteFloat, FiniteFloat, FiniteFloat]
+"""A vector that is not a position (a field, a moment, a direction)."""
 
 
 class _Spec(BaseModel):
@@ -207,7 +254,7 @@ class ObstacleSpec(_Spec):
 class LuminaireSpec(_Spec):
     """A ceiling light with intensity I(θ) = intensity_cd · cosᵉˣᵖᵒⁿᵉⁿᵗ θ about its axis."""
 
-    position: Vec3
+    position: Point3
     intensity_cd: NonNegFloat
     exponent: NonNegFloat = 1.0
     axis: Vec3 = (0.0, 0.0, -1.0)
@@ -293,8 +340,22 @@ class LightSpec(_Spec):
 class DipoleSpec(_Spec):
     """A magnetic point dipole with a fixed moment in the building frame."""
 
-    position: Vec3
+    position: Point3
     moment: Vec3
+    """A·m², |moment| at most :data:`MAX_DIPOLE_MOMENT_AM2` (10⁴ A·m², ≈ 65 t of steel)."""
+
+    @field_validator("moment")
+    @classmethod
+    def _building_sized(cls, v: tuple[float, float, float]) -> tuple[float, float, float]:
+        size = math.hypot(*v)
+        if size > MAX_DIPOLE_MOMENT_AM2:
+            raise ValueError(
+                f"|moment| = {size:.3g} A·m² is beyond the limit of "
+                f"{MAX_DIPOLE_MOMENT_AM2:g} A·m² (the moment of ≈ 65 t of steel in the "
+                "Earth's field, more than any object in a building; it would clip a phone's "
+                "±4912 µT magnetometer within 0.74 m)"
+            )
+        return v
 
 
 class RebarSpec(_Spec):
@@ -308,7 +369,7 @@ class RebarSpec(_Spec):
     (``transverse_susceptibility``), and their remanence lies along them.
     """
 
-    z: FiniteFloat
+    z: Coordinate
     spacing: PositiveFloat = 1.0
     steel_volume_m3_per_m2: NonNegFloat = 0.002
     region: Annotated[list[Vec2], Field(min_length=3)] | None = None
@@ -355,7 +416,7 @@ class WifiApSpec(_Spec):
     """A WiFi access point."""
 
     bssid: str
-    position: Vec3
+    position: Point3
     tx_power_dbm: Annotated[float, Field(ge=-10, le=36, allow_inf_nan=False)] = 18.0
     frequency_ghz: Annotated[float, Field(ge=2.3, le=7.2, allow_inf_nan=False)] = 2.4
     ssid: str = ""

@@ -6,6 +6,9 @@ a caller can catch one type, read the valid names off ``.valid``, and print
 the same kind of message everywhere::
 
     unknown device 'nokia_3310'; valid devices are: honor_50, ideal, ...
+
+Beside it, :class:`IndoorsimWarning`: the base of the warnings meant for the
+user, which the command line prints as one line.
 """
 
 from __future__ import annotations
@@ -13,7 +16,14 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import ClassVar
 
-__all__ = ["UnknownNameError"]
+__all__ = ["IndoorsimWarning", "UnknownNameError"]
+
+
+class IndoorsimWarning(UserWarning):
+    """A warning meant for the user, such as rows a reader skipped.
+
+    The command line prints it as one line, ``indoorsim: warning: <message>``.
+    """
 
 
 class UnknownNameError(LookupError):

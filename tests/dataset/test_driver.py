@@ -170,7 +170,8 @@ def test_same_bytes_with_one_and_two_workers(tmp_path, reference, config_file):
 
 # Loaded by every Python process of the killed run (driver and Dask workers, which
 # inherit PYTHONPATH): after the named shard is written, the process group is
-# killed, as a power cut would end the run, at a known point instead of a time.
+# killed, as a power cut would end the run (or sent SIGINT, as Ctrl-C in a
+# terminal does), at a known point instead of a time.
 _CRASH_HOOK = """
 import os
 
@@ -184,7 +185,8 @@ if os.environ.get("INDOORSIM_TEST_CRASH_AFTER"):
     def run_shard(config_json, shard_json, out):
         result = _run_shard(config_json, shard_json, out)
         if shard_json["name"] == os.environ["INDOORSIM_TEST_CRASH_AFTER"]:
-            os.killpg(os.getpgrp(), signal.SIGKILL)
+            sig = getattr(signal, os.environ.get("INDOORSIM_TEST_SIGNAL", "SIGKILL"))
+            os.killpg(os.getpgrp(), sig)
         return result
 
     # Pickled by reference, so the worker runs its own (hooked) copy.
@@ -218,6 +220,54 @@ def test_killed_run_resumes_without_losing_or_duplicating_shards(tmp_path, refer
     assert log["skipped"] >= len(done_before) and log["skipped"] + log["computed"] == 6
     assert _files(out) == _files(reference)
     assert not [p for p in out.rglob(".*")]  # no temporary files left
+
+
+def test_ctrl_c_is_one_line_and_the_run_resumes(tmp_path, reference, config_file):
+    """SIGINT to the whole process group, as Ctrl-C sends it, after a known shard: one
+    line on stderr (no traceback of the driver or of a Dask worker), exit 130, the
+    finished shards kept, and the same command finishes the same data set."""
+    out = tmp_path / "data"
+    argv = [*_dataset_argv(config_file, 1), "--out", str(out)]
+    hook = tmp_path / "hook"
+    hook.mkdir()
+    (hook / "sitecustomize.py").write_text(_CRASH_HOOK)
+    env = os.environ | {
+        "INDOORSIM_TEST_CRASH_AFTER": "shard-00002",
+        "INDOORSIM_TEST_SIGNAL": "SIGINT",
+        "PYTHONPATH": os.pathsep.join([str(hook), os.environ.get("PYTHONPATH", "")]),
+    }
+    command = [sys.executable, "-m", "indoorsim", *argv]
+    proc = subprocess.run(
+        command, start_new_session=True, env=env, capture_output=True, text=True, timeout=300
+    )
+    assert proc.returncode == 130, proc.stderr
+    done_before = {p.name for p in (out / "shards").glob("*.json")}
+    assert "shard-00002.json" in done_before and len(done_before) < 6
+    assert proc.stderr == (
+        f"indoorsim: interrupted: {len(done_before)} of 6 shards are complete and kept in "
+        f"{out}; run the same command again to resume\n"
+    )
+    assert not (out / CARD_JSON).exists()
+
+    assert main(argv) == 0
+    log = json.loads((out / RUN_LOG).read_text())
+    assert log["skipped"] == len(done_before) and log["computed"] == 6 - len(done_before)
+    assert _files(out) == _files(reference)
+    assert not [p for p in out.rglob(".*")]
+
+
+def test_a_keyboard_interrupt_in_the_driver_is_one_line(tmp_path, monkeypatch, capsys):
+    """The command line's side, without a cluster: exit 130 and the driver's message."""
+    from indoorsim.dataset.driver import DatasetInterrupted
+
+    def interrupted(*args, **kwargs):
+        raise DatasetInterrupted("interrupted: 2 of 6 shards are complete and kept in x")
+
+    monkeypatch.setattr("indoorsim.dataset.driver.build_dataset", interrupted)
+    assert main(["dataset", *ARGS, "--out", str(tmp_path / "x"), "--quiet"]) == 130
+    assert capsys.readouterr().err == (
+        "indoorsim: interrupted: 2 of 6 shards are complete and kept in x\n"
+    )
 
 
 def test_no_site_is_in_two_splits(reference):
@@ -332,14 +382,18 @@ def test_quick_exit_only_after_a_clean_worker_close(closed, status):
 def test_quick_exit_is_registered_on_our_own_cluster_only():
     from distributed import LocalCluster
 
-    from indoorsim.dataset.driver import _client, _QuickExit
+    from indoorsim.dataset.driver import _client, _DriverHandlesInterrupt, _QuickExit
 
     def plugins(dask_worker):
         return sorted(dask_worker.plugins)
 
+    def sigint(dask_worker):
+        return signal.getsignal(signal.SIGINT)
+
     with _client(1, None) as client:
         (names,) = client.run(plugins).values()
-        assert _QuickExit.name in names
+        assert _QuickExit.name in names and _DriverHandlesInterrupt.name in names
+        assert list(client.run(sigint).values()) == [signal.SIG_IGN]
     # In-process workers of someone else's cluster: the hook would end this very process.
     # One thread: the walks run one at a time, as in indoorsim's own single-threaded workers.
     with LocalCluster(
@@ -347,4 +401,5 @@ def test_quick_exit_is_registered_on_our_own_cluster_only():
     ) as cluster:
         with _client(None, cluster.scheduler_address) as client:
             (names,) = client.run(plugins).values()
-            assert _QuickExit.name not in names
+            assert _QuickExit.name not in names and _DriverHandlesInterrupt.name not in names
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # this process's own

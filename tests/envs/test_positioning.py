@@ -72,7 +72,8 @@ def _rollout(env: gym.Env, seed: int) -> dict[str, list]:
 
 
 class _Recorder:
-    """A fake estimator: keeps what it is shown and walks a fixed line from the start."""
+    """A fake estimator: keeps what it is shown and walks to and fro on a line from the start
+    (2 m at most, so that it stays in the action space)."""
 
     name = "recorder"
 
@@ -89,7 +90,7 @@ class _Recorder:
     def act(self, obs: Observation) -> np.ndarray:
         self.seen.append(obs)
         assert self.start is not None
-        return self.start.position + 0.25 * len(self.seen)
+        return self.start.position + 0.25 * (len(self.seen) % 8)
 
 
 # ---------------------------------------------------------------- registration
@@ -358,6 +359,22 @@ def test_bad_actions_are_rejected_saying_what_was_received(action, message):
     env.reset(seed=0)
     with pytest.raises(ValueError, match=message):
         env.step(action)
+
+
+@pytest.mark.parametrize("action", [[1e9, 3.0], [5.0, -10.3], np.array([-1e300, 1e300])])
+def test_an_action_outside_the_action_space_is_rejected_with_its_bounds(action):
+    env = gym.make(SMALL).unwrapped
+    env.reset(seed=0)
+    (xlo, ylo), (xhi, yhi) = env.action_space.low, env.action_space.high
+    assert (xlo, ylo, xhi, yhi) == (-10.1, -10.1, 20.1, 16.1)  # the 10 m × 6 m room ± 10 m
+    with pytest.raises(ValueError) as info:
+        env.step(action)
+    assert str(info.value) == (
+        f"action {indoorsim.envs.positioning._describe(action)} is outside the action space: "
+        "x in [-10.1, 20.1] m, y in [-10.1, 16.1] m (the floor plan's bounds ± 10 m)"
+    )
+    _, reward, *_ = env.step([20.1, -10.1])  # the box's corner is still inside
+    assert np.isfinite(reward)
 
 
 def test_integer_and_list_actions_are_positions():

@@ -13,6 +13,7 @@ import pytest
 
 import indoorsim.io.reallogs.common
 from indoorsim.io.reallogs import (
+    MalformedRowsWarning,
     carry_mode,
     detect_format,
     read_ilc_trace,
@@ -116,7 +117,12 @@ def test_ilc_mapping_on_a_small_trace(tmp_path: Path):
     path = tmp_path / "trace.txt"
     path.write_text(SMALL_TRACE, encoding="utf-8")
     assert detect_format(path).name == "ilc2020"
-    rec = read_ilc_trace(path)
+    with pytest.warns(
+        MalformedRowsWarning,
+        match=r"trace\.txt: skipped 2 malformed rows \(1 run together with the next row, "
+        r"1 with a field that is not a number\)$",
+    ):
+        rec = read_ilc_trace(path)
     # t = 0 at the first sensor row (ms 1000100); the waypoint before it is negative.
     np.testing.assert_array_equal(rec.accel.index, [0.0, 0.06])
     np.testing.assert_array_equal(rec.accel["z"], [9.8, 9.7])
@@ -128,6 +134,10 @@ def test_ilc_mapping_on_a_small_trace(tmp_path: Path):
     np.testing.assert_allclose(rec.wifi["age_s"], [2.0, 0.05])
     # The run-on line (two rows, one newline lost) and the unparsable value are skipped.
     assert rec.meta["malformed_lines"] == 2
+    assert rec.meta["malformed_rows"] == {
+        "run together with the next row": 1,
+        "with a field that is not a number": 1,
+    }
     assert "gyro" not in rec.streams
     assert rec.meta["dropped_rows"] == {"TYPE_BEACON": 1}
     assert rec.meta["device"] == "ACME P1" and rec.meta["site"]["floor_name"] == "F2"
@@ -212,6 +222,52 @@ def test_oxford_validation_steps_on_a_small_file(tmp_path: Path):
     path.write_text("1,0.1,0.2,9.8,0,2,0\n2,0.1,0.2,9.8,0,1,0\n")
     with pytest.raises(RecordingError, match="decreases at row 1"):
         Recording.load(path)
+
+
+def test_garbage_rows_are_skipped_counted_and_warned_about(tmp_path: Path):
+    """Garbage in a real log: the readable rows are read as in a clean file, the others
+    skipped, counted by reason in meta and named in one warning."""
+    clean = "".join(
+        f"{5_000_000_000 + k * 10_000_000},0.1,0.2,9.8,0,{k // 2},0\n" for k in range(6)
+    )
+    rows = clean.splitlines(keepends=True)
+    path = tmp_path / "user9_armband_1500000000000.csv"
+    path.write_text(clean)
+    expected = Recording.load(path)
+    garbage = ["0.1,garbage\n", "5012000000,0.1,0.2,x9.8,0,0,0\n", "\n", "1,2,3,4,5,6,7,8\n"]
+    path.write_bytes("".join([*rows[:2], *garbage, *rows[2:]]).encode() + b"\xff\xfe,1,2,3,4,5,6\n")
+    with pytest.warns(MalformedRowsWarning) as warned:
+        rec = Recording.load(path)
+    assert [str(w.message) for w in warned] == [
+        f"{path}: skipped 4 malformed rows (2 with a field that is not a number, "
+        "2 with the wrong number of fields)"
+    ]
+    assert rec.meta["malformed_rows"] == {
+        "with a field that is not a number": 2,
+        "with the wrong number of fields": 2,
+    }
+    for name, df in expected.streams.items():
+        pd.testing.assert_frame_equal(df, rec.streams[name])
+    assert expected.meta["malformed_rows"] == {}
+
+
+def test_a_sensor_logger_file_with_garbage_keeps_its_good_rows(tmp_path: Path):
+    folder = _sensor_logger_export(tmp_path / "export")
+    expected = read_sensor_logger(folder)
+    gyro = folder / "Gyroscope.csv"
+    head, *rows = gyro.read_text().splitlines(keepends=True)
+    gyro.write_text("".join([head, rows[0], "not,a,row,at,all\n", "oops\n", *rows[1:]]))
+    with pytest.warns(
+        MalformedRowsWarning,
+        match=r"export: skipped 2 malformed rows \(1 gyroscope\.csv: with a field that is not "
+        r"a number, 1 gyroscope\.csv: with the wrong number of fields\)",
+    ):
+        rec = read_sensor_logger(folder)
+    assert rec.meta["malformed_rows"] == {
+        "gyroscope.csv: with a field that is not a number": 1,
+        "gyroscope.csv: with the wrong number of fields": 1,
+    }
+    pd.testing.assert_frame_equal(rec.gyro, expected.gyro)
 
 
 def test_carry_modes():

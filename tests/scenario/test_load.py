@@ -203,6 +203,18 @@ BAD_CASES = [
         "site.latitude",
         "less than or equal to 90",
     ),
+    (
+        "wall end a million kilometres away",
+        lambda d: d["walls"][3].update(to=[0.0, 1e9]),
+        "walls[3].to[1]",
+        "1e+09 m is beyond the coordinate limit",
+    ),
+    (
+        "dipole far beyond any building steel",
+        lambda d: d["magnetic"]["dipoles"][1].update(moment=[0.0, 0.0, 1e300]),
+        "magnetic.dipoles[1].moment",
+        "|moment| = 1e+300 A·m² is beyond the limit of 10000 A·m²",
+    ),
 ]
 
 
@@ -241,6 +253,73 @@ def test_yaml_syntax_error_reports_its_line(tmp_path: Path):
     file.write_text("name: x\nsite:\n  latitude: 3\n  longitude: [1, 2\nwalls: []\n")
     with pytest.raises(ScenarioError, match=r"syntax\.yaml: YAML syntax error at line 5"):
         load_scenario(file)
+
+
+@pytest.mark.parametrize(
+    ("content", "where", "looks_like"),
+    [
+        ("name: café\n".encode("latin-1"), "line 1, column 10 (byte offset 9)", "Latin-1"),
+        (b"name: x\n\x00\x01\x02\xff\xfe" * 10, "line 2, column 4 (byte offset 11)", "binary"),
+    ],
+    ids=["latin-1", "binary"],
+)
+def test_a_file_that_is_not_utf8_names_the_byte(tmp_path: Path, content, where, looks_like):
+    file = tmp_path / "encoded.yaml"
+    file.write_bytes(content)
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(file)
+    message = str(info.value)
+    assert message.startswith(f"{file}: not UTF-8 text: byte 0x")
+    assert where in message and looks_like in message
+    assert info.value.__suppress_context__
+
+
+def test_a_key_given_twice_is_refused_with_both_lines(minimal_site_path: Path, tmp_path: Path):
+    text = minimal_site_path.read_text(encoding="utf-8")
+    file = tmp_path / "twice.yaml"
+    # The last of two values would win silently in PyYAML.
+    file.write_text(text + "name: another\n", encoding="utf-8")
+    last = len(text.splitlines()) + 1
+    first = next(i for i, line in enumerate(text.splitlines(), 1) if line.startswith("name:"))
+    with pytest.raises(ScenarioError) as info:
+        load_scenario(file)
+    assert info.value.problems == [
+        ("name", f"duplicate key 'name' at line {last} (first given at line {first}); "
+         "give each key once")
+    ]  # fmt: skip
+    # Nested, in a flow mapping: the key path, and the columns of a shared line.
+    file.write_text(text.replace("thickness: 0.12,", "thickness: 0.12, thickness: 0.3,"))
+    with pytest.raises(ScenarioError, match=r"walls\[4\]\.thickness: duplicate key 'thickness' "
+                       r"at line \d+, column \d+ \(first given at column \d+\)"):  # fmt: skip
+        load_scenario(file)
+
+
+def test_merged_keys_may_be_overridden(minimal_site_path: Path, tmp_path: Path):
+    """YAML merge keys (<<) are not duplicates: the mapping's own key overrides them."""
+    text = minimal_site_path.read_text(encoding="utf-8")
+    file = tmp_path / "merged.yaml"
+    file.write_text(
+        text.replace("routes:\n  main: {", "routes:\n  main: &main {")
+        + "  back: {<<: *main, speed: 1.0}\n",
+        encoding="utf-8",
+    )
+    scn = load_scenario(file)
+    assert scn.routes["back"].speed == 1.0
+    assert scn.routes["back"].waypoints == scn.routes["main"].waypoints
+
+
+def test_a_folder_is_not_a_scenario_file(minimal_site_path: Path, tmp_path: Path):
+    for load in (load_scenario, resolve_scenario):
+        with pytest.raises(ScenarioError) as info:
+            load(tmp_path)
+        assert str(info.value) == (
+            f"{tmp_path}: is a directory, expected a scenario .yaml file (it holds no .yaml files)"
+        )
+    (tmp_path / "b.yaml").write_text("")
+    (tmp_path / "a.yml").write_text("")
+    with pytest.raises(ScenarioError, match=r"is a directory, expected a scenario \.yaml file: "
+                       "one of a.yml, b.yaml$"):  # fmt: skip
+        resolve_scenario(tmp_path)
 
 
 def test_missing_file_and_non_mapping(tmp_path: Path):

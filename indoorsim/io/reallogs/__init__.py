@@ -25,6 +25,11 @@ Conventions shared by every reader:
   µT, lux, dBm); frames are the Android sensor frame, as in DESIGN §2.
 * A stream is present only when the log has rows for it. Streams are sorted by
   ``t`` (stably). What a reader drops is counted in ``meta["dropped_rows"]``.
+* Rows a reader cannot read (garbage: the wrong number of fields, a time or
+  number that does not parse) are skipped, counted by reason in
+  ``meta["malformed_rows"]``, and reported by a
+  :class:`~indoorsim.io.reallogs.common.MalformedRowsWarning` naming the file
+  and the counts (the command line prints it as ``indoorsim: warning: ...``).
 * ``meta["mode"]`` is the carry mode in indoorsim's vocabulary when the log
   says it (``handheld``, ``pocketed``, ``dangling``, ``calling``), the log's own
   word for positions indoorsim does not model (e.g. ``Purse``), or None.
@@ -39,7 +44,7 @@ open registry of :mod:`indoorsim.io.formats`, which names each reader by a strin
 from __future__ import annotations
 
 from indoorsim.io.formats import FORMATS, LogFormat, detect_format, register_format
-from indoorsim.io.reallogs.common import carry_mode
+from indoorsim.io.reallogs.common import MalformedRowsWarning, carry_mode
 from indoorsim.io.reallogs.ilc import read_ilc_trace
 from indoorsim.io.reallogs.mag_slam import read_mag_slam_walk
 from indoorsim.io.reallogs.oxford import read_oxford_folder, read_oxford_validation
@@ -48,6 +53,7 @@ from indoorsim.io.reallogs.sensor_logger import read_sensor_logger
 __all__ = [
     "FORMATS",
     "LogFormat",
+    "MalformedRowsWarning",
     "carry_mode",
     "detect_format",
     "read_ilc_trace",

@@ -1,14 +1,115 @@
-"""Helpers shared by the real-log readers: frames, clocks, rates and carry-mode names."""
+"""Helpers shared by the real-log readers: frames, clocks, rates, carry-mode names and the
+rows they skip."""
 
 from __future__ import annotations
 
+import csv
+import io
 import os
+import warnings
+from collections import Counter
+from collections.abc import Mapping
 
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from indoorsim.util.errors import IndoorsimWarning
+
 PathLike = str | os.PathLike[str]
+
+NOT_A_NUMBER = "with a field that is not a number"
+WRONG_FIELD_COUNT = "with the wrong number of fields"
+"""Why :func:`read_csv_columns` skips a row (the keys of ``meta["malformed_rows"]``)."""
+
+
+class MalformedRowsWarning(IndoorsimWarning):
+    """A real log had rows that could not be read; they were skipped and counted.
+
+    The message names the file and how many rows were skipped for which
+    reason; ``meta["malformed_rows"]`` of the recording holds the same counts.
+    """
+
+
+def report_malformed(source: PathLike, malformed: Mapping[str, int]) -> dict[str, int]:
+    """Warn (:class:`MalformedRowsWarning`) naming ``source`` and the rows skipped per reason.
+
+    Returns the counts for ``meta["malformed_rows"]``, sorted by reason ({} when none).
+    """
+    counts = {reason: int(n) for reason, n in sorted(malformed.items()) if n}
+    if counts:
+        total = sum(counts.values())
+        reasons = ", ".join(f"{n} {reason}" for reason, n in counts.items())
+        warnings.warn(
+            f"{source}: skipped {total} malformed row{'s' if total != 1 else ''} ({reasons})",
+            MalformedRowsWarning,
+            stacklevel=3,
+        )
+    return counts
+
+
+def read_csv_columns(
+    text: str,
+    columns: Mapping[str, type],
+    *,
+    header: bool,
+    malformed: Counter[str],
+    file: str = "",
+) -> pd.DataFrame:
+    """A CSV file's rows with ``columns`` as int64 (``int``) or float64 (``float``).
+
+    Without ``header``, ``columns`` names every column in order; with it, the
+    file's first line names them and ``columns`` types those it lists (the
+    others are kept as read). A row that does not have the file's number of
+    fields, or whose integer or number field does not parse (an empty or
+    ``nan`` number is NaN, as pandas reads it), is skipped and counted in
+    ``malformed`` under :data:`WRONG_FIELD_COUNT` or :data:`NOT_A_NUMBER`,
+    prefixed with ``file`` when given. A clean file is read by pandas alone.
+    """
+    dtypes = {name: np.int64 if kind is int else np.float64 for name, kind in columns.items()}
+    names = None if header else list(columns)
+    try:
+        with warnings.catch_warnings():
+            # Rows all one field too long: pandas would warn and drop the last field.
+            warnings.simplefilter("error", pd.errors.ParserWarning)
+            return pd.read_csv(
+                io.StringIO(text),
+                header=0 if header else None,
+                names=names,
+                dtype=dtypes,
+                index_col=False,
+            )
+    except (ValueError, pd.errors.ParserError, pd.errors.ParserWarning):
+        pass  # a malformed row somewhere: read row by row below
+    rows = [row for row in csv.reader(io.StringIO(text)) if any(f.strip() for f in row)]
+    if header:
+        if not rows:
+            return pd.DataFrame(columns=list(columns))
+        names, rows = rows[0], rows[1:]
+    else:
+        names = list(columns)
+    kept = [row for row in rows if len(row) == len(names)]
+    prefix = f"{file}: " if file else ""
+    malformed[prefix + WRONG_FIELD_COUNT] += len(rows) - len(kept)
+    raw = pd.DataFrame(kept, columns=names, dtype=object)
+    bad = pd.Series(False, index=raw.index)
+    parsed: dict[str, pd.Series] = {}
+    for name, kind in columns.items():
+        if name not in raw:
+            continue  # the reader says which column a file lacks
+        field = raw[name].astype(str).str.strip()
+        if kind is int:
+            ok = field.str.fullmatch(r"[+-]?\d+")
+            parsed[name] = field.where(ok, "0").astype(np.int64)
+        else:
+            number = pd.to_numeric(field, errors="coerce")
+            ok = number.notna() | field.str.lower().isin(["", "nan"])
+            parsed[name] = number.astype(np.float64)
+        bad |= ~ok
+    malformed[prefix + NOT_A_NUMBER] += int(bad.sum())
+    out = raw.assign(**parsed)[~bad]
+    return out.reset_index(drop=True)
+
 
 XYZ = ("x", "y", "z")
 RATE_STREAMS = (

@@ -14,10 +14,13 @@ import pandas as pd
 from numpy.typing import NDArray
 
 from indoorsim.io.reallogs.common import (
+    NOT_A_NUMBER,
+    WRONG_FIELD_COUNT,
     XYZ,
     PathLike,
     median_rates_hz,
     quaternion_from_rotation_vector,
+    report_malformed,
     ticks_to_seconds,
     time_frame,
 )
@@ -82,7 +85,11 @@ def read_ilc_trace(path: PathLike) -> Recording:
 
     Lines that cannot be parsed — upstream occasionally loses a newline and
     runs two rows together — are skipped and counted in
-    ``meta["malformed_lines"]``.
+    ``meta["malformed_lines"]``, by reason in ``meta["malformed_rows"]`` (``without a
+    row type``, ``run together with the next row``, ``with the wrong number of
+    fields``, ``with a field that is not a number``), and a
+    :class:`~indoorsim.io.reallogs.common.MalformedRowsWarning` names the file
+    and the counts. Bytes that are not UTF-8 are read as U+FFFD.
 
     Raises:
         RecordingError: the file has no motion-sensor rows.
@@ -94,8 +101,8 @@ def read_ilc_trace(path: PathLike) -> Recording:
     waypoints: list[list[float]] = []
     header: list[list[str]] = []
     dropped: Counter[str] = Counter()
-    malformed = 0
-    with source.open(encoding="utf-8") as lines:
+    malformed: Counter[str] = Counter()
+    with source.open(encoding="utf-8", errors="replace") as lines:
         for line in lines:
             line = line.rstrip("\r\n")
             if not line.strip():
@@ -105,15 +112,18 @@ def read_ilc_trace(path: PathLike) -> Recording:
                 continue
             fields = line.split("\t")
             kind = fields[1] if len(fields) > 1 else ""
+            if not _ILC_TYPE.match(kind):
+                malformed["without a row type"] += 1
+                continue
             # A row that swallowed the next one shows a second type field.
-            if not _ILC_TYPE.match(kind) or any(_ILC_TYPE.match(f) for f in fields[2:]):
-                malformed += 1
+            if any(_ILC_TYPE.match(f) for f in fields[2:]):
+                malformed["run together with the next row"] += 1
                 continue
             if kind not in _ILC_FIELDS:
                 dropped[kind] += 1
                 continue
             if len(fields) != _ILC_FIELDS[kind]:
-                malformed += 1
+                malformed[WRONG_FIELD_COUNT] += 1
                 continue
             try:
                 ms = int(fields[0])
@@ -130,7 +140,7 @@ def read_ilc_trace(path: PathLike) -> Recording:
                     waypoints.append([float(fields[2]), float(fields[3])])
                     stream = "waypoints"
             except ValueError:
-                malformed += 1
+                malformed[NOT_A_NUMBER] += 1
                 continue
             times[stream].append(ms)
 
@@ -184,7 +194,8 @@ def read_ilc_trace(path: PathLike) -> Recording:
                 "origin at the floor image's lower-left corner)",
             },
             "rates_hz": median_rates_hz(streams),
-            "malformed_lines": malformed,
+            "malformed_lines": sum(malformed.values()),
+            "malformed_rows": report_malformed(source, malformed),
             "dropped_rows": dict(sorted(dropped.items())),
         }
     )

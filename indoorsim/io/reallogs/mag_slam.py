@@ -74,6 +74,7 @@ def read_mag_slam_walk(path: PathLike) -> Recording:
         "frames": {"phone": "the iPad's magnetometer frame, as logged"},
         "rates_hz": median_rates_hz(streams),
         "dropped_rows": {},
+        "malformed_rows": {},  # a MATLAB file has no rows to misread
     }
     return Recording(streams=streams, meta=meta)
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
@@ -15,6 +16,8 @@ from indoorsim.io.reallogs.common import (
     PathLike,
     carry_mode,
     median_rates_hz,
+    read_csv_columns,
+    report_malformed,
     ticks_to_seconds,
     time_frame,
 )
@@ -54,20 +57,18 @@ def read_oxford_folder(path: PathLike) -> Recording:
 
     ``t`` = (ns − first accelerometer ns)/1e9 (a clock since boot;
     ``meta["t0_boot_ns"]``). ``meta["ground_truth_steps"]`` is the step count and
-    ``meta["channel_steps"]`` the count per channel.
+    ``meta["channel_steps"]`` the count per channel. Rows that cannot be read
+    are skipped and counted as ``"<file>.csv: <reason>"`` in
+    ``meta["malformed_rows"]``, with a warning (see :mod:`indoorsim.io.reallogs`).
     """
     folder = Path(path)
-    accel = pd.read_csv(
-        folder / "accelerometer.csv",
-        header=None,
-        names=["ns", "accuracy", "x", "y", "z"],
-        dtype={
-            "ns": np.int64,
-            "accuracy": np.int64,
-            "x": np.float64,
-            "y": np.float64,
-            "z": np.float64,
-        },
+    malformed: Counter[str] = Counter()
+    accel = read_csv_columns(
+        _text(folder / "accelerometer.csv"),
+        {"ns": int, "accuracy": int, "x": float, "y": float, "z": float},
+        header=False,
+        malformed=malformed,
+        file="accelerometer.csv",
     )
     if accel.empty:
         raise RecordingError(f"{folder / 'accelerometer.csv'}: no rows")
@@ -78,11 +79,12 @@ def read_oxford_folder(path: PathLike) -> Recording:
             ticks_to_seconds(ticks, t0, 1e9), {c: accel[c].to_numpy() for c in XYZ}
         ),
     }
-    counter = pd.read_csv(
-        folder / "stepcounter.csv",
-        header=None,
-        names=["ns", "channel_1", "channel_2"],
-        dtype=np.int64,
+    counter = read_csv_columns(
+        _text(folder / "stepcounter.csv"),
+        {"ns": int, "channel_1": int, "channel_2": int},
+        header=False,
+        malformed=malformed,
+        file="stepcounter.csv",
     )
     step_t, step_channel, per_channel = [], [], []
     state_t = ticks_to_seconds(counter["ns"].to_numpy(), t0, 1e9)
@@ -121,8 +123,14 @@ def read_oxford_folder(path: PathLike) -> Recording:
         "ground_truth_steps": len(streams["steps"]),
         "channel_steps": per_channel,
         "dropped_rows": {},
+        "malformed_rows": report_malformed(folder, malformed),
     }
     return Recording(streams=streams, meta=meta)
+
+
+def _text(path: Path) -> str:
+    # Bytes that are not UTF-8 become U+FFFD, and their row a malformed row.
+    return path.read_text(encoding="utf-8", errors="replace")
 
 
 def looks_like_oxford_folder(path: Path) -> bool:
@@ -154,14 +162,24 @@ def read_oxford_validation(path: PathLike) -> Recording:
     The file name gives ``meta`` ``user``, ``position``, ``mode`` (``hand`` →
     handheld, ``frontpocket``/``backpocket`` → pocketed, others as given) and
     ``start_time_unix_ms``; the phone is a Samsung Galaxy S6 (upstream README).
+    Rows that cannot be read are skipped and counted by reason in
+    ``meta["malformed_rows"]``, with a warning (see :mod:`indoorsim.io.reallogs`).
 
     Raises:
-        RecordingError: the ground-truth count decreases, or the file is empty.
+        RecordingError: the ground-truth count decreases, or the file has no readable row.
     """
     source = Path(path)
-    data = np.loadtxt(source, delimiter=",", ndmin=2)
-    if data.shape[1] != 7 or len(data) == 0:
-        raise RecordingError(f"{source}: expected 7 comma-separated columns, got {data.shape}")
+    malformed: Counter[str] = Counter()
+    columns = ("ns", "x", "y", "z", "app_steps", "truth_steps", "hardware_steps")
+    table = read_csv_columns(
+        _text(source),
+        {name: int if name == "ns" else float for name in columns},
+        header=False,
+        malformed=malformed,
+    )
+    if table.empty:
+        raise RecordingError(f"{source}: no rows of 7 comma-separated numbers")
+    data = table[list(columns)].to_numpy(dtype=np.float64)
     placeholder = np.all(data[:, 1:4] == 0.0, axis=1)
     leading = int(np.argmin(placeholder)) if not placeholder.all() else len(data)
     data = data[leading:]
@@ -202,6 +220,7 @@ def read_oxford_validation(path: PathLike) -> Recording:
         "app_algorithm_steps": int(data[-1, 4] - data[0, 4]),
         "hardware_steps": int(hardware[-1] - hardware[0]) if hardware.any() else None,
         "dropped_rows": {"zero_accel_placeholder": leading} if leading else {},
+        "malformed_rows": report_malformed(source, malformed),
     }
     return Recording(streams=streams, meta=meta)
 

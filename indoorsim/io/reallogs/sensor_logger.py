@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import zipfile
+from collections import Counter
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -18,6 +19,8 @@ from indoorsim.io.reallogs.common import (
     XYZ,
     PathLike,
     median_rates_hz,
+    read_csv_columns,
+    report_malformed,
     ticks_to_seconds,
     time_frame,
 )
@@ -94,7 +97,10 @@ def read_sensor_logger(path: PathLike, *, mode: str | None = None) -> Recording:
     seen in published exports), so each is read only if present; the
     ``device id`` column is not kept. Rows whose ``time`` goes backwards
     (stale cached values, which the app's README says to remove) are dropped
-    and counted in ``meta["dropped_rows"]``.
+    and counted in ``meta["dropped_rows"]``. Rows that cannot be read (the
+    wrong number of fields, a ``time`` or number that does not parse) are
+    skipped, counted as ``"<file>.csv: <reason>"`` in ``meta["malformed_rows"]``
+    and warned about (:class:`~indoorsim.io.reallogs.common.MalformedRowsWarning`).
 
     Args:
         path: the export folder or ``.zip``.
@@ -105,18 +111,26 @@ def read_sensor_logger(path: PathLike, *, mode: str | None = None) -> Recording:
             sensor file is present.
     """
     source = Path(path)
+    malformed: Counter[str] = Counter()
     with _csv_members(source) as members:
         frames: dict[str, pd.DataFrame] = {}
         dropped_files = []
         metadata: dict[str, str] = {}
         for stem, opener in sorted(members.items()):
             if stem == "metadata":
-                with opener() as handle:
-                    rows = list(csv.DictReader(io.TextIOWrapper(handle, encoding="utf-8-sig")))
+                with opener() as handle, io.TextIOWrapper(handle, encoding="utf-8-sig") as text:
+                    rows = list(csv.DictReader(text))
                 metadata = rows[0] if rows else {}
             elif stem in _SENSOR_LOGGER_FILES:
+                _, mapping = _SENSOR_LOGGER_FILES[stem]
+                numbers: dict[str, type] = {"time": int}
+                numbers |= {c: float for k, c in mapping.items() if k not in _SENSOR_LOGGER_TEXT}
                 with opener() as handle:
-                    frames[stem] = pd.read_csv(handle)
+                    # Bytes that are not UTF-8 become U+FFFD, and their row a malformed row.
+                    text = handle.read().decode("utf-8-sig", errors="replace")
+                frames[stem] = read_csv_columns(
+                    text, numbers, header=True, malformed=malformed, file=f"{stem}.csv"
+                )
             else:
                 dropped_files.append(stem)
     if not frames:
@@ -184,6 +198,7 @@ def read_sensor_logger(path: PathLike, *, mode: str | None = None) -> Recording:
         "rates_hz": median_rates_hz(streams),
         "dropped_files": dropped_files,
         "dropped_rows": dropped_rows,
+        "malformed_rows": report_malformed(source, malformed),
     }
     return Recording(streams=streams, meta=meta)
 
