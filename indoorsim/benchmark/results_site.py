@@ -254,7 +254,10 @@ def _scenario_page(out: Path, name: str, provenance: dict[str, Any]) -> Page:
         tables=[Table("estimator × mode", f"{name}.csv", table, len(frame))],
         markdown=f"{name}.md" if (out / f"{name}.md").is_file() else None,
     )
-    for suffix, caption in (("cdf", "error CDF per mode"), ("tracks", "tracks")):
+    for suffix, caption in (
+        ("cdf", "error CDF per mode"),
+        ("tracks", "tracks, first seed: a panel per estimator and mode"),
+    ):
         if (out / f"{name}_{suffix}.png").is_file():
             page.images.append((f"{name}_{suffix}.png", caption))
     return page

@@ -1,9 +1,11 @@
 """Figures of leaderboard results: error CDFs, estimated tracks, named CDFs, training curves.
 
 * :func:`plot_error_cdfs` — the error CDF of each estimator on one scenario,
-  one panel per carrying mode (the leaderboard's ``<scenario>_cdf.png``).
-* :func:`plot_tracks` — each estimator's track beside the truth on the floor
-  plan, first seed, one panel per mode (``<scenario>_tracks.png``).
+  one panel per carrying mode, the legend in its own column (the
+  leaderboard's ``<scenario>_cdf.png``).
+* :func:`plot_tracks` — small multiples: each estimator's track beside the
+  truth on the floor plan, first seed, a panel per estimator and mode, each
+  holding its track whole (``<scenario>_tracks.png``).
 * :func:`plot_named_cdfs` — CDFs of any named error samples, as the papers'
   reproduced experiments draw them.
 * :func:`plot_training_curves` — BP training MSE per epoch (Han2023 Fig. 14).
@@ -39,8 +41,26 @@ def _panel_row(n: int) -> tuple[Figure, NDArray[np.object_]]:
     return fig, fig.subplots(1, n, squeeze=False, sharey=True)[0]
 
 
+_LINESTYLES = ("-", "--", ":", "-.")
+
+
+def _estimator_styles(names: Iterable[str]) -> dict[str, dict[str, str]]:
+    """Colour and line style of each name: past the palette's length, the styles change."""
+    palette = ESTIMATOR_COLOURS
+    return {
+        n: {
+            "color": palette[i % len(palette)],
+            "linestyle": _LINESTYLES[(i // len(palette)) % len(_LINESTYLES)],
+        }
+        for i, n in enumerate(dict.fromkeys(names))
+    }
+
+
 def plot_error_cdfs(evaluations: Sequence[Any]) -> Figure:
     """Error CDFs of several evaluations: one panel per carrying mode, one curve per estimator.
+
+    The legend stands in its own column right of the panels; past the palette's
+    eight colours, estimators are told apart by their line style as well.
 
     Args:
         evaluations: :class:`~indoorsim.benchmark.evaluation.Evaluation` objects of one
@@ -49,7 +69,7 @@ def plot_error_cdfs(evaluations: Sequence[Any]) -> Figure:
     from indoorsim.benchmark.metrics import error_cdf, position_errors
 
     modes = list(dict.fromkeys(ev.mode for ev in evaluations))
-    colours = _estimator_colours(ev.estimator for ev in evaluations)
+    styles = _estimator_styles(ev.estimator for ev in evaluations)
     fig, axes = _panel_row(len(modes))
     for ax, mode in zip(axes, modes, strict=True):
         for ev in (e for e in evaluations if e.mode == mode and e.walks):
@@ -60,42 +80,121 @@ def plot_error_cdfs(evaluations: Sequence[Any]) -> Figure:
                 ]
             )
             x, f = error_cdf(err)
-            ax.step(x, f, where="post", color=colours[ev.estimator], label=ev.estimator)
+            ax.step(x, f, where="post", label=ev.estimator, **styles[ev.estimator])
         ax.set_title(mode)
         ax.set_xlabel("position error (m)")
         ax.set_xlim(left=0)
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("fraction of windows")
-    axes[0].legend(loc="lower right", fontsize="small")
+    handles = {}
+    for ax in axes:
+        for line in ax.get_lines():
+            handles.setdefault(line.get_label(), line)
+    if handles:
+        fig.legend(
+            list(handles.values()),
+            list(handles),
+            loc="outside right upper",
+            fontsize="small",
+            title="estimator",
+        )
     fig.suptitle(f"{evaluations[0].scenario}: error CDF over all seeds")
     return fig
 
 
+# Track panels: width of a panel, and the range of its height over its width.
+_TRACK_PANEL_IN = 3.4
+_TRACK_ASPECT = (0.25, 1.3)
+
+
+def _track_limits(
+    bounds: tuple[float, float, float, float], walk: Any | None
+) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Axis limits holding the plan, the truth and the track whole, with a margin."""
+    xmin, ymin, xmax, ymax = bounds
+    if walk is not None and len(walk):
+        xs = np.concatenate([walk["x"].to_numpy(float), walk["true_x"].to_numpy(float)])
+        ys = np.concatenate([walk["y"].to_numpy(float), walk["true_y"].to_numpy(float)])
+        xs, ys = xs[np.isfinite(xs)], ys[np.isfinite(ys)]
+        if len(xs):
+            xmin, xmax = min(xmin, xs.min()), max(xmax, xs.max())
+        if len(ys):
+            ymin, ymax = min(ymin, ys.min()), max(ymax, ys.max())
+    margin = max(1.0, 0.04 * max(xmax - xmin, ymax - ymin))
+    return (xmin - margin, xmax + margin), (ymin - margin, ymax + margin)
+
+
 def plot_tracks(evaluations: Sequence[Any], site: Site) -> Figure:
-    """Estimated tracks beside the truth on the floor plan, first seed, one panel per mode."""
+    """Small multiples of the tracks: a panel per estimator (rows) and carrying mode (columns).
+
+    Each panel shows the floor plan, the true path (black) and that estimator's
+    track of the first seed; its axes hold the plan and both tracks whole. A
+    track that stays at one point (``start-only``) is drawn as a marker. A panel
+    whose estimator did not run on the site says so.
+    """
     modes = list(dict.fromkeys(ev.mode for ev in evaluations))
-    colours = _estimator_colours(ev.estimator for ev in evaluations)
-    xmin, ymin, xmax, ymax = site.plan.bounds
-    aspect = (ymax - ymin) / max(xmax - xmin, 1e-3)
-    width = 5.5
-    fig = agg_figure((width * len(modes), max(3.0, width * aspect) + 1.0))
-    axes = fig.subplots(1, len(modes), squeeze=False)[0]
-    for ax, mode in zip(axes, modes, strict=True):
-        draw_plan(ax, site.plan, legend=False)
-        truth_drawn = False
-        for ev in (e for e in evaluations if e.mode == mode):
-            if not ev.walks:
-                continue
-            walk = ev.walks[0].estimates
-            if not truth_drawn:
-                ax.plot(walk["true_x"], walk["true_y"], color="black", lw=2.0, label="truth")
-                truth_drawn = True
-            ax.plot(walk["x"], walk["y"], color=colours[ev.estimator], lw=1.2, label=ev.estimator)
-        ax.set_title(f"{mode} (first seed)")
-        ax.set_xlim(xmin - 5, xmax + 5)
-        ax.set_ylim(ymin - 5, ymax + 5)
-    axes[0].legend(loc="best", fontsize="small")
-    fig.suptitle(f"{site.name}: estimated tracks")
+    estimators = list(dict.fromkeys(ev.estimator for ev in evaluations))
+    colours = _estimator_colours(estimators)
+    found = {(ev.estimator, ev.mode): ev for ev in evaluations}
+    bounds = site.plan.bounds
+    walks: dict[tuple[str, str], Any] = {}
+    limits = {}
+    for est in estimators:
+        for mode in modes:
+            ev = found.get((est, mode))
+            walk = ev.walks[0].estimates if ev is not None and ev.walks else None
+            walks[est, mode] = walk
+            limits[est, mode] = _track_limits(bounds, walk)
+
+    def aspect(key: tuple[str, str]) -> float:
+        (x0, x1), (y0, y1) = limits[key]
+        return float(np.clip((y1 - y0) / (x1 - x0), *_TRACK_ASPECT))
+
+    heights = [max(aspect((est, mode)) for mode in modes) for est in estimators]
+    title_in = 0.45
+    fig = agg_figure(
+        (
+            _TRACK_PANEL_IN * len(modes),
+            sum(_TRACK_PANEL_IN * h + title_in for h in heights) + 0.6,
+        )
+    )
+    axes = fig.subplots(
+        len(estimators),
+        len(modes),
+        squeeze=False,
+        gridspec_kw={"height_ratios": [_TRACK_PANEL_IN * h + title_in for h in heights]},
+    )
+    for row, est in zip(axes, estimators, strict=True):
+        for ax, mode in zip(row, modes, strict=True):
+            draw_plan(ax, site.plan, legend=False)
+            walk = walks[est, mode]
+            (x0, x1), (y0, y1) = limits[est, mode]
+            if walk is None:
+                ax.text(
+                    0.5, 0.5, "not run on this site", transform=ax.transAxes,
+                    ha="center", va="center", fontsize=8, color="0.3",
+                )  # fmt: skip
+            else:
+                ax.plot(walk["true_x"], walk["true_y"], color="black", lw=1.6, label="truth")
+                x, y = walk["x"].to_numpy(float), walk["y"].to_numpy(float)
+                ax.plot(x, y, color=colours[est], lw=1.2, label=est)
+                extent = max(np.ptp(x), np.ptp(y)) if len(x) else 0.0
+                if extent < 0.01 * max(x1 - x0, y1 - y0):  # one point: a line would not show
+                    ax.plot(
+                        x[-1:], y[-1:], ls="none", marker="o", ms=7, color=colours[est],
+                        markeredgecolor="black", label=f"{est} (one point)",
+                    )  # fmt: skip
+            ax.set_xlim(x0, x1)
+            ax.set_ylim(y0, y1)
+            ax.set_aspect("equal", adjustable="box")
+            ax.set_title(f"{est} · {mode}", fontsize=9)
+            ax.tick_params(labelsize=7)
+            ax.set_xlabel("")
+            ax.set_ylabel("")
+    fig.suptitle(
+        f"{site.name}: estimated track (colour) beside the truth (black), first seed; "
+        "axes in metres, each panel holding its track whole"
+    )
     return fig
 
 

@@ -15,6 +15,7 @@ from indoorsim.plots.results import (
     plot_tracks,
     plot_training_curves,
 )
+from indoorsim.plots.style import ESTIMATOR_COLOURS
 from indoorsim.world.site import Site
 
 
@@ -62,18 +63,101 @@ def test_error_cdfs_have_a_panel_per_mode_and_pool_every_seed(evaluations):
     assert "test-office" in fig.texts[0].get_text()
 
 
-def test_tracks_draw_the_first_seed_beside_the_truth_on_the_plan(site: Site, evaluations):
+def test_error_cdfs_legend_stands_outside_the_panels_once_per_estimator(evaluations):
+    fig = plot_error_cdfs(evaluations)
+    assert all(ax.get_legend() is None for ax in fig.axes)
+    (legend,) = fig.legends
+    assert [t.get_text() for t in legend.get_texts()] == ["good", "bad"]
+    fig.canvas.draw()
+    box = legend.get_window_extent()
+    assert all(box.x0 >= ax.get_window_extent().x1 for ax in fig.axes)
+
+
+def test_error_cdfs_tell_estimators_apart_past_the_palette():
+    names = [f"e{i}" for i in range(len(ESTIMATOR_COLOURS) + 2)]
+    fig = plot_error_cdfs([_evaluation(n, "handheld", _walk(0, [1.0, 2.0])) for n in names])
+    (ax,) = fig.axes
+    styles = {(line.get_color(), line.get_linestyle()) for line in ax.get_lines()}
+    assert len(styles) == len(names)
+
+
+def _tracks(fig) -> dict[str, object]:
+    return {ax.get_title(): ax for ax in fig.axes}
+
+
+def test_tracks_are_a_panel_per_estimator_and_mode(site: Site, evaluations):
     fig = plot_tracks(evaluations, site)
-    handheld, pocketed = fig.axes
+    assert list(_tracks(fig)) == [
+        "good · handheld",
+        "good · pocketed",
+        "bad · handheld",
+        "bad · pocketed",
+    ]
+    panels = _tracks(fig)
+    handheld = panels["good · handheld"]
     lines = {line.get_label(): line for line in handheld.get_lines()}
-    assert list(lines) == ["truth", "good", "bad"]
+    assert list(lines) == ["truth", "good"]
     first = evaluations[0].walks[0].estimates
     np.testing.assert_array_equal(lines["good"].get_ydata(), first["y"])
     np.testing.assert_array_equal(lines["truth"].get_xdata(), first["true_x"])
-    assert [line.get_label() for line in pocketed.get_lines()] == ["truth", "good"]
     assert handheld.patches  # the floor plan underneath
-    xmin, _, xmax, _ = site.plan.bounds
-    assert handheld.get_xlim() == (xmin - 5, xmax + 5)
+    # "bad" has no walks in pocketed: the plan and a note, no track.
+    empty = panels["bad · pocketed"]
+    assert empty.patches and not empty.get_lines()
+    assert "not run" in empty.texts[0].get_text()
+
+
+def _inside(ax, x, y) -> bool:
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    return bool(((x0 <= x) & (x <= x1) & (y0 <= y) & (y <= y1)).all())
+
+
+def test_every_track_lies_whole_inside_its_panel(site: Site):
+    """A track far outside the plan widens its own panel; the plan stays in view too."""
+    t = np.arange(4, dtype=float)
+    lost = pd.DataFrame(
+        {
+            "t": t,
+            "x": [1.0, 30.0, 60.0, 90.0],
+            "y": [2.0, -20.0, -40.0, -55.0],
+            "true_x": 1.0 + t,
+            "true_y": np.full(4, 2.0),
+        }
+    )
+    evaluations = [
+        _evaluation("lost", "handheld", WalkResult(seed=0, estimates=lost, metrics={})),
+        _evaluation("good", "handheld", _walk(0, [0.5, 0.25])),
+    ]
+    fig = plot_tracks(evaluations, site)
+    fig.canvas.draw()  # limits as drawn, after the aspect is applied
+    xmin, ymin, xmax, ymax = site.plan.bounds
+    for ax in fig.axes:
+        lines = ax.get_lines()
+        assert lines
+        for line in lines:
+            assert _inside(ax, line.get_xdata(), line.get_ydata()), ax.get_title()
+        assert _inside(ax, [xmin, xmax], [ymin, ymax])
+    lost_ax, good_ax = fig.axes
+    assert np.ptp(lost_ax.get_xlim()) > np.ptp(good_ax.get_xlim())  # each panel its own limits
+
+
+def test_a_track_at_one_point_is_drawn_as_a_marker(site: Site):
+    t = np.arange(5, dtype=float)
+    still = pd.DataFrame({"t": t, "x": 1.0, "y": 2.0, "true_x": 1.0 + t, "true_y": np.full(5, 2.0)})
+    fig = plot_tracks(
+        [_evaluation("start-only", "handheld", WalkResult(seed=0, estimates=still, metrics={}))],
+        site,
+    )
+    (ax,) = fig.axes
+    markers = [line for line in ax.get_lines() if line.get_marker() not in (None, "None", "")]
+    assert len(markers) == 1
+    np.testing.assert_array_equal(markers[0].get_xydata(), [[1.0, 2.0]])
+    assert markers[0].get_markersize() >= 5
+    assert _inside(ax, [1.0], [2.0])
+    # A moving track has no marker.
+    fig = plot_tracks([_evaluation("good", "handheld", _walk(0, [0.5, 0.25]))], site)
+    assert all(line.get_marker() in (None, "None", "") for line in fig.axes[0].get_lines())
 
 
 def test_named_cdfs_skip_empty_samples():
