@@ -69,6 +69,7 @@ from indoorsim.estimators.base import (
     StartInfo,
     estimator_class,
 )
+from indoorsim.io.faults import Fault, apply_faults
 from indoorsim.io.fingerprints import FingerprintDB
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
@@ -485,12 +486,18 @@ def evaluate(
     n_train: int = 2,
     train_routes: str = "other",
     params: dict[str, Any] | None = None,
+    faults: Sequence[Fault] = (),
     progress: Progress | None = None,
 ) -> Evaluation:
     """Score ``estimator`` (a registered name or ``module:Class``) over ``seeds``.
 
     ``params`` go to the estimator's constructor; ``train_routes`` says which
-    routes the training walks follow (:func:`training_walks`).
+    routes the training walks follow (:func:`training_walks`). ``faults``
+    (:mod:`indoorsim.io.faults`) are applied in order to each test walk before
+    its episode, fault ``i`` on the walk of seed ``s`` drawing from
+    ``fault_rng(s, i)``; training walks and surveys stay clean. They are
+    recorded in the config's ``faults`` column (their specs joined by ``;``),
+    which is present only when there are faults.
 
     Raises:
         UnknownRouteError: ``route`` is not one of the scenario's routes.
@@ -520,6 +527,8 @@ def evaluate(
         "package_version": __version__,
         "git_revision": git_revision(),
     }
+    if faults:
+        config["faults"] = "; ".join(f.spec() for f in faults)
     ev = Evaluation(estimator=estimator, scenario=site.name, mode=mode, config=config)
     try:
         train_s = _fit(est, ctx, train)
@@ -530,6 +539,7 @@ def evaluate(
         if progress:
             progress(f"{site.name} {mode} {estimator} seed {seed}")
         rec = simulate(site, route=route, mode=schedule, device=device, seed=seed)
+        rec = apply_faults(rec, faults, seed)
         res = run_episode(est, rec, ctx, start_info(rec, seed))
         truth_xy = true_positions_at(rec, res.t)
         ref_xy = true_positions_at(rec, res.t_ref)

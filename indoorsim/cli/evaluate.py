@@ -135,6 +135,17 @@ def add_evaluate(subparsers: Subparsers) -> None:
         "are its truth times, with the estimates interpolated to them)",
     )
     parser.add_argument(
+        "--fault",
+        action="append",
+        default=[],
+        metavar="NAME[:K=V,...]",
+        help="a sensor fault applied to each test walk (or to --recording), repeatable, "
+        "in order: e.g. bias_jump:stream=accel,t0=5,vector=0.3/0/0 or "
+        "dropout:streams=accel/gyro,p=0.2. Numbers are floats; lists (streams, x/y/z "
+        "vectors) separate items with / or ;. An unknown NAME is refused with the list of "
+        "faults, an unknown key with the fault's parameters",
+    )
+    parser.add_argument(
         "--fail-above",
         type=_thresholds,
         default={},
@@ -151,6 +162,7 @@ def _run_evaluate(args: argparse.Namespace) -> int:
 
     from indoorsim.benchmark import evaluation, leaderboard
     from indoorsim.io.atomic import write_folder
+    from indoorsim.io.faults import FaultError, apply_faults, parse_fault
     from indoorsim.io.recording import MissingStreamError, Recording, RecordingError
 
     check_out(args.out, overwrite=args.overwrite, what="evaluation")
@@ -161,6 +173,12 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                 f"--out {args.out}: not an earlier evaluation (no summary.csv); "
                 "refusing to replace it"
             )
+    faults = []
+    for spec in args.fault:
+        try:
+            faults.append(parse_fault(spec))
+        except FaultError as err:
+            raise CliError(f"--fault {spec}: {err}") from None
     name, params = estimator_options(args.estimator)
     # Checking the options imported every estimator.
     from indoorsim.estimators.base import NotApplicableError
@@ -171,6 +189,10 @@ def _run_evaluate(args: argparse.Namespace) -> int:
             rec = Recording.load(args.recording)
         except (RecordingError, OSError) as err:
             raise CliError(f"--recording {args.recording}: {err}") from None
+        try:
+            rec = apply_faults(rec, faults, seed=0)
+        except FaultError as err:
+            raise CliError(f"--fault: {err}") from None
         try:
             with working(f"evaluating {args.estimator}"):
                 walk = evaluation.evaluate_recording(name, rec, window_s=args.window, params=params)
@@ -213,10 +235,13 @@ def _run_evaluate(args: argparse.Namespace) -> int:
                     window_s=args.window,
                     train_routes=args.train_routes,
                     params=params,
+                    faults=faults,
                     progress=lambda _msg: bar.update(1),  # called as each seed's walk starts
                 )
         except evaluation.EstimatorError as err:
             raise _estimator_failed(name, params, err) from err
+        except FaultError as err:
+            raise CliError(f"--fault: {err}") from None
         if ev.note:
             raise CliError(f"--estimator {args.estimator}: not applicable here: {ev.note}")
         summary = pd.DataFrame([ev.row()])

@@ -1,0 +1,39 @@
+"""``indoorsim evaluate --fault``: faults applied to the test walks and recorded."""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from indoorsim.cli import main
+
+ARGS = ["evaluate", "--estimator", "pdr-basic", "--scenario", "minimal_room", "--seeds", "1"]
+ARGS += ["--device", "ideal"]
+
+
+def test_evaluate_with_a_fault_runs_and_records_it(tmp_path):
+    fault = "bias_jump:stream=gyro,t0=2,vector=0/0/0.2"
+    assert (
+        main([*ARGS, "--fault", fault, "--fault", "gap:t0=4,t1=5", "--out", str(tmp_path / "f")])
+        == 0
+    )
+    assert main([*ARGS, "--out", str(tmp_path / "clean")]) == 0
+    faulty = pd.read_csv(tmp_path / "f" / "summary.csv")
+    clean = pd.read_csv(tmp_path / "clean" / "summary.csv")
+    expected = "bias_jump:stream=gyro,t0=2,vector=0/0/0.2; gap:t0=4,t1=5,streams=accel/gyro/mag"
+    assert faulty["faults"].iloc[0] == expected
+    assert "faults" not in clean.columns
+    assert faulty["ae"].iloc[0] != clean["ae"].iloc[0]  # the fault reached the episode
+
+
+def test_a_bad_fault_spec_is_one_line_before_any_work(tmp_path, capsys):
+    assert (
+        main([*ARGS, "--fault", "bias_jump:stream=accel,t0=1", "--out", str(tmp_path / "x")]) == 2
+    )
+    err = capsys.readouterr().err.strip()
+    assert err == (
+        "indoorsim: --fault bias_jump:stream=accel,t0=1: fault bias_jump: missing parameter "
+        "vector (parameters: stream, t0, vector)"
+    )
+    assert not (tmp_path / "x").exists()
+    assert main([*ARGS, "--fault", "wobble", "--out", str(tmp_path / "y")]) == 2
+    assert "unknown fault 'wobble'; known faults: dropout" in capsys.readouterr().err
