@@ -152,7 +152,7 @@ from indoorsim.estimators.fingerprint.sequences import (
 )
 from indoorsim.estimators.frames import wrap_angle
 from indoorsim.estimators.pdr.gait import GaitDeadReckoning, GaitStep
-from indoorsim.estimators.pipelines.han2023 import match_steps, step_lag_s
+from indoorsim.estimators.pipelines.han2023 import match_steps, median_step_lag_s, step_lag_s
 from indoorsim.io.recording import Recording
 from indoorsim.util.seeding import generator
 from indoorsim.windows import Windower
@@ -529,8 +529,7 @@ def calibrate_length_scale(dr: GaitDeadReckoning, train: Sequence[Recording]) ->
         lags.append(step_lag_s([st.t for st in steps], true_t))
     if len(matched) >= _MIN_SAMPLES:
         dr.calibrate(matched, np.concatenate(lengths))
-    lags = [lag for lag in lags if np.isfinite(lag)]
-    return float(np.median(lags)) if lags else float("nan")
+    return median_step_lag_s(lags)
 
 
 @dataclass(frozen=True)

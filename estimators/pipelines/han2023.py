@@ -90,6 +90,7 @@ __all__ = [
     "PlainBP",
     "TentAsoBPStatic",
     "match_steps",
+    "median_step_lag_s",
     "step_lag_s",
 ]
 
@@ -121,6 +122,16 @@ def step_lag_s(t_detected: ArrayLike, true_t: ArrayLike) -> float:
     if not ok.any():
         return float("nan")
     return float(np.median(t_det[ok] - t_true[before[ok]]))
+
+
+def median_step_lag_s(lags: Sequence[float]) -> float:
+    """The median of per-walk :func:`step_lag_s` values that are known (NaN if none is).
+
+    >>> median_step_lag_s([0.2, float("nan"), 0.24])
+    0.22
+    """
+    known = [lag for lag in lags if np.isfinite(lag)]
+    return float(np.median(known)) if known else float("nan")
 
 
 def match_steps(
@@ -270,7 +281,6 @@ class Han2023Pdr:
         measure there how late the detector times a step (:attr:`estimate_time`)."""
         self._site_mag_offset = site.magnetic_to_building_rad
         self.k_fitted = self.weinberg_k
-        self.step_lag_fitted = float("nan")
         matched: list[Step] = []
         lengths: list[NDArray[np.float64]] = []
         lags: list[float] = []
@@ -286,9 +296,7 @@ class Han2023Pdr:
             matched += s
             lengths.append(lens)
             lags.append(step_lag_s([st.t for st in steps], true_t))
-        lags = [lag for lag in lags if np.isfinite(lag)]
-        if lags:
-            self.step_lag_fitted = float(np.median(lags))
+        self.step_lag_fitted = median_step_lag_s(lags)
         if matched and self.calibrate:
             try:
                 self.k_fitted = calibrate_k(matched, np.concatenate(lengths))

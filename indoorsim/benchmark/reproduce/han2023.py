@@ -36,6 +36,7 @@ Readings:
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -53,6 +54,7 @@ from indoorsim.benchmark.evaluation import (
     true_headings_at,
 )
 from indoorsim.benchmark.reproduce.tables import cell, paper_cells, rank_line
+from indoorsim.estimators.base import estimator_class
 from indoorsim.estimators.fingerprint.library import FingerprintLibrary
 from indoorsim.estimators.nn.bp import TentAsoBP
 from indoorsim.estimators.pipelines.han2023 import (
@@ -325,7 +327,9 @@ def trajectory_table(
     site = load_site(scenario)
     out = []
     for label, est, params, routes in TRAJECTORY_RUNS:
-        fits = fit_seeds if est != "han2023-pdr" else (None,)
+        # Only a network has a fit seed to vary (PDR has none).
+        trained = any(f.name == "fit_seed" for f in dataclasses.fields(estimator_class(est)))
+        fits = fit_seeds if trained else (None,)
         rows = []
         for fit in fits:
             if progress:
@@ -349,7 +353,7 @@ def trajectory_table(
                 "estimator": est,
                 "params": json.dumps(params, sort_keys=True),
                 "train_routes": routes,
-                "fit_seeds": len(rows) if fits != (None,) else 0,
+                "fit_seeds": len(rows) if trained else 0,
                 "min": r["min_reftime"],
                 "max": r["me_reftime"],
                 "mean": r["ae_reftime"],
