@@ -15,7 +15,7 @@ explicit import is needed::
     env = gym.make("indoorsim.envs:indoorsim/Han2023Corridor-v1", mode="pocketed")
 
 Other options (``route``, ``mode``, ``device``, ``survey_device``,
-``window_s``, ``render_mode``) are keyword arguments of :func:`gymnasium.make`.
+``window_s``, ``render_mode``, ``faults``) are keyword arguments of :func:`gymnasium.make`.
 
 Example:
     >>> import gymnasium as gym

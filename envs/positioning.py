@@ -13,6 +13,7 @@ from __future__ import annotations
 import functools
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -31,6 +32,7 @@ from indoorsim.benchmark.evaluation import (
     window_samples,
 )
 from indoorsim.estimators.base import SiteContext
+from indoorsim.io.faults import Fault, apply_faults, parse_fault, walk_arguments
 from indoorsim.phone.devices import get_device
 from indoorsim.plots import draw_plan
 from indoorsim.scenario.load import load_site
@@ -186,6 +188,14 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
     - ``window_s``: window length, s, at most ``MAX_WINDOW_S`` (60 s); default 1.0.
     - ``render_mode``: ``None`` or ``"rgb_array"`` (the floor plan with the
       true track and the estimates so far).
+    - ``faults``: sensor faults (:mod:`indoorsim.io.faults`: spec strings such
+      as ``"gap:t0=20,t1=30"`` or fault objects) applied in order to every
+      walk, as ``indoorsim evaluate --fault`` does: fault ``i`` of the walk of
+      seed ``s`` draws from ``fault_rng(s, i)``. A ``mode_change`` or
+      ``wrong_device`` fault walks with another carrying mode or phone than
+      ``mode`` and ``device`` say; ``site_context`` stays the declared one's.
+      Observations may then hold NaN (``nan_burst``) or lack streams
+      (``missing``), as a faulty phone's would. Default: none.
 
     The registered ids ``indoorsim/<Scenario>-v1`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
@@ -195,7 +205,8 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
     - v0: initial version.
     - v1: ``present`` has a seventh flag, for the game rotation vector. Later
       (no reward changed): an action outside the action space raises
-      ``ValueError``, where it was scored as it was.
+      ``ValueError``, where it was scored as it was; the ``faults`` argument
+      (default none: the same walks as before).
 
     Example:
         >>> import gymnasium as gym
@@ -220,6 +231,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
         survey_device: str = "honor_50",
         window_s: float = 1.0,
         render_mode: str | None = None,
+        faults: Sequence[str | Fault] = (),
     ):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(
@@ -247,6 +259,10 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
         self._schedule = ModeSchedule.of(mode)
         imu_rate_hz = get_device(device).accel.rate_hz
         get_device(survey_device)  # fail now, not at the first survey
+        if isinstance(faults, str | Fault):
+            faults = (faults,)
+        self.faults = tuple(parse_fault(f) if isinstance(f, str) else f for f in faults)
+        walk_arguments(self.faults, self._schedule, device)  # a walk fault's error now
         self.device = device
         self.survey_device = survey_device
         self.window_s = float(window_s)
@@ -292,7 +308,9 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
         super().reset(seed=seed)
         route, mode = self._episode_options(options or {})
         walk_seed = int(self.np_random.integers(_WALK_SEED_BOUND)) if seed is None else int(seed)
-        rec = simulate(self._site, route=route, mode=mode, device=self.device, seed=walk_seed)
+        walk_mode, walk_device = walk_arguments(self.faults, mode, self.device)
+        rec = simulate(self._site, route=route, mode=walk_mode, device=walk_device, seed=walk_seed)
+        rec = apply_faults(rec, self.faults, walk_seed)
         start = start_info(rec, walk_seed)
         windows = Windower(rec, self.window_samples, self.bssids)
         t_end = np.array([windows.end_time(k) for k in range(len(windows))])

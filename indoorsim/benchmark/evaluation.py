@@ -69,7 +69,7 @@ from indoorsim.estimators.base import (
     StartInfo,
     estimator_class,
 )
-from indoorsim.io.faults import Fault, apply_faults
+from indoorsim.io.faults import Fault, apply_faults, walk_arguments
 from indoorsim.io.fingerprints import FingerprintDB
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
@@ -495,7 +495,10 @@ def evaluate(
     routes the training walks follow (:func:`training_walks`). ``faults``
     (:mod:`indoorsim.io.faults`) are applied in order to each test walk before
     its episode, fault ``i`` on the walk of seed ``s`` drawing from
-    ``fault_rng(s, i)``; training walks and surveys stay clean. They are
+    ``fault_rng(s, i)``; a walk fault (``mode_change``, ``wrong_device``)
+    changes the schedule or phone the test walks are simulated with, while the
+    estimator's context and training walks keep the declared ones. Training
+    walks and surveys stay clean. They are
     recorded in the config's ``faults`` column (their specs joined by ``;``),
     which is present only when there are faults.
 
@@ -529,6 +532,7 @@ def evaluate(
     }
     if faults:
         config["faults"] = "; ".join(f.spec() for f in faults)
+    walk_mode, walk_device = walk_arguments(faults, schedule, device)
     ev = Evaluation(estimator=estimator, scenario=site.name, mode=mode, config=config)
     try:
         train_s = _fit(est, ctx, train)
@@ -538,7 +542,7 @@ def evaluate(
     for seed in seeds:
         if progress:
             progress(f"{site.name} {mode} {estimator} seed {seed}")
-        rec = simulate(site, route=route, mode=schedule, device=device, seed=seed)
+        rec = simulate(site, route=route, mode=walk_mode, device=walk_device, seed=seed)
         rec = apply_faults(rec, faults, seed)
         res = run_episode(est, rec, ctx, start_info(rec, seed))
         truth_xy = true_positions_at(rec, res.t)

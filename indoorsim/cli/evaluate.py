@@ -162,7 +162,7 @@ def _run_evaluate(args: argparse.Namespace) -> int:
 
     from indoorsim.benchmark import evaluation, leaderboard
     from indoorsim.io.atomic import write_folder
-    from indoorsim.io.faults import FaultError, apply_faults, parse_fault
+    from indoorsim.io.faults import FaultError, WalkFault, apply_faults, parse_fault
     from indoorsim.io.recording import MissingStreamError, Recording, RecordingError
 
     check_out(args.out, overwrite=args.overwrite, what="evaluation")
@@ -189,6 +189,12 @@ def _run_evaluate(args: argparse.Namespace) -> int:
             rec = Recording.load(args.recording)
         except (RecordingError, OSError) as err:
             raise CliError(f"--recording {args.recording}: {err}") from None
+        walk_faults = [f.name for f in faults if isinstance(f, WalkFault)]
+        if walk_faults:
+            raise CliError(
+                f"--fault {', '.join(walk_faults)}: changes how a walk is simulated, "
+                "which a --recording already is; use it with --scenario"
+            )
         try:
             rec = apply_faults(rec, faults, seed=0)
         except FaultError as err:

@@ -17,6 +17,15 @@ A faulty recording may break what :meth:`Recording.validate` asks of a clean
 one (NaN values are the point of ``nan_burst``), so it is built without
 validation; its ``t`` index stays non-decreasing.
 
+Two faults change the walk rather than its recording, because what they
+stand for happens while walking: ``mode_change`` (the phone goes into another
+carrying mode that nobody tells the estimator about) and ``wrong_device``
+(the walk is recorded by another phone than the one declared, whose profile
+the estimator's training walks and windows were made for). They are
+:class:`WalkFault`; :func:`walk_arguments` gives the carrying schedule and
+device to simulate the faulty walk with, and their ``apply`` only records
+them in ``meta["faults"]``.
+
 Spec strings (``indoorsim evaluate --fault``)::
 
     NAME[:key=value,key=value,...]
@@ -42,14 +51,18 @@ import numpy as np
 import pandas as pd
 
 from indoorsim.io.recording import Recording
+from indoorsim.phone.devices import get_device
+from indoorsim.walker.schedule import ModeSchedule, ScheduleEntry, ScheduleLike
 
 __all__ = [
     "FAULTS",
     "Fault",
     "FaultError",
+    "WalkFault",
     "apply_faults",
     "fault_rng",
     "parse_fault",
+    "walk_arguments",
 ]
 
 # Streams a fault may not touch: the truth scoring needs.
@@ -502,6 +515,74 @@ class CaseMagnet(Fault):
         df[_XYZ] = df[_XYZ].to_numpy() + np.asarray(self.offset)
 
 
+class WalkFault(Fault):
+    """A fault in how the walk is made: the simulator walks with other arguments.
+
+    Its recording transform is the identity (``apply`` only records the
+    fault); :meth:`walk` changes the carrying schedule or the device that
+    :func:`walk_arguments` passes on to the simulator.
+    """
+
+    def _targets(self) -> tuple[str, ...]:
+        return ()
+
+    def _transform(self, streams: Streams, rng: np.random.Generator) -> None:
+        return None
+
+    @abstractmethod
+    def walk(self, schedule: ModeSchedule, device: str) -> tuple[ModeSchedule, str]:
+        """The schedule and device the faulty walk is simulated with."""
+
+
+@dataclass(frozen=True)
+class ModeChange(WalkFault):
+    name: ClassVar[str] = "mode_change"
+    doc: ClassVar[str] = (
+        "from t0 on the phone is carried in another mode, and the estimator is not told "
+        "(put into a pocket mid-walk)"
+    )
+    t0: float
+    mode: str
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.t0) and self.t0 > 0):
+            raise self._fail("t0", f"must be a positive number of seconds, got {self.t0}")
+        try:
+            ModeSchedule.of(self.mode)
+        except (ValueError, LookupError) as err:
+            raise self._fail("mode", f"= {self.mode!r}: {err}") from None
+
+    def walk(self, schedule: ModeSchedule, device: str) -> tuple[ModeSchedule, str]:
+        kept = [e for e in schedule.entries if e.t_start_s < self.t0]
+        if kept[-1].mode == self.mode:
+            raise self._fail(
+                "mode",
+                f"= {self.mode!r} is the mode already carried at t0 = {self.t0:g} s: no change",
+            )
+        return ModeSchedule((*kept, ScheduleEntry(self.t0, self.mode, {}))), device
+
+
+@dataclass(frozen=True)
+class WrongDevice(WalkFault):
+    name: ClassVar[str] = "wrong_device"
+    doc: ClassVar[str] = (
+        "the walk is recorded by device, not the phone declared to the estimator "
+        "(its training walks, windows and noise model are the declared phone's)"
+    )
+    device: str
+
+    def __post_init__(self) -> None:
+        try:
+            get_device(self.device)
+        except LookupError as err:
+            raise self._fail("device", f"= {self.device!r}: {err}") from None
+
+    def walk(self, schedule: ModeSchedule, device: str) -> tuple[ModeSchedule, str]:
+        if device == self.device:
+            raise self._fail("device", f"= {self.device!r} is the declared device: no fault")
+        return schedule, self.device
+
+
 FAULTS: dict[str, type[Fault]] = {
     cls.name: cls
     for cls in (
@@ -521,6 +602,8 @@ FAULTS: dict[str, type[Fault]] = {
         LightsOff,
         MagneticDisturbance,
         CaseMagnet,
+        ModeChange,
+        WrongDevice,
     )
 }
 """Every fault by name."""
@@ -586,6 +669,21 @@ def parse_fault(spec: str) -> Fault:
 def fault_rng(seed: int, index: int) -> np.random.Generator:
     """The generator of the ``index``-th fault (from 0) applied to the walk of ``seed``."""
     return np.random.default_rng(np.random.SeedSequence([int(seed), int(index)]))
+
+
+def walk_arguments(
+    faults: Sequence[Fault], mode: ScheduleLike, device: str
+) -> tuple[ModeSchedule, str]:
+    """The carrying schedule and device to simulate a walk with under ``faults``.
+
+    The declared ``mode`` and ``device`` unless a :class:`WalkFault` changes
+    them (in order); the estimator is still told the declared ones.
+    """
+    schedule = ModeSchedule.of(mode)
+    for fault in faults:
+        if isinstance(fault, WalkFault):
+            schedule, device = fault.walk(schedule, device)
+    return schedule, device
 
 
 def apply_faults(recording: Recording, faults: Sequence[Fault], seed: int) -> Recording:

@@ -29,7 +29,8 @@ from indoorsim.envs.positioning import IndoorPositioningEnv
 from indoorsim.estimators.base import SiteContext, StartInfo
 from indoorsim.scenario import bundled_scenarios
 from indoorsim.simulate import simulate
-from indoorsim.windows import Observation
+from indoorsim.io.faults import FaultError, apply_faults
+from indoorsim.windows import Observation, Windower
 
 ENV_IDS = sorted(
     env_id
@@ -278,6 +279,38 @@ def test_episode_equals_the_runners_episode(env_id):
     np.testing.assert_allclose(
         rewards, -np.linalg.norm(result.estimate - np.array(truth), axis=1), rtol=0, atol=1e-12
     )
+
+
+# ---------------------------------------------------------------- faults
+
+
+def test_faults_change_the_walk_as_evaluate_does():
+    site = indoorsim.load_site("minimal_room")
+    specs = ["wrong_device:device=honor_50", "nan_burst:stream=accel,t0=2,t1=3", "dropout:p=0.3"]
+    env = gym.make(SMALL, faults=specs).unwrapped
+    assert [f.spec() for f in env.faults][0] == "wrong_device:device=honor_50"
+    obs, _ = env.reset(seed=3)
+    clean = simulate(site, route="main", mode="handheld", device="honor_50", seed=3)
+    faulty = apply_faults(clean, env.faults, seed=3)
+    seen = [obs["accel"]]
+    terminated = False
+    while not terminated:
+        obs, _, terminated, _, info = env.step(env.action_space.low + 10.0)
+        seen.append(obs["accel"])
+    # The env's windows are the faulty recording's, cut with the declared phone's window.
+    windows = Windower(faulty, env.site_context.window_samples, env.bssids)
+    assert len(seen) == len(windows) + 1
+    for k, accel in enumerate(seen[:-1]):
+        np.testing.assert_array_equal(accel, windows.window(k)["accel"])
+    assert any(np.isnan(a).any() for a in seen)
+    assert env.site_context.device == "nexus_5x"
+
+
+def test_a_bad_fault_fails_at_construction():
+    with pytest.raises(FaultError, match="fault mode_change: mode = 'handheld' is the mode"):
+        IndoorPositioningEnv("minimal_room", faults=["mode_change:t0=5,mode=handheld"])
+    with pytest.raises(FaultError, match="unknown fault 'wobble'"):
+        IndoorPositioningEnv("minimal_room", faults="wobble")
 
 
 # ---------------------------------------------------------------- options and errors

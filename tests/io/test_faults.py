@@ -9,9 +9,11 @@ import pytest
 from indoorsim.io.faults import (
     FAULTS,
     FaultError,
+    WalkFault,
     apply_faults,
     fault_rng,
     parse_fault,
+    walk_arguments,
 )
 from indoorsim.io.recording import Recording
 
@@ -203,6 +205,8 @@ def test_every_fault_round_trips_its_spec_and_leaves_the_input_alone():
         "lights_off": "lights_off:t0=0,t1=100,lux=0.5",
         "magnetic_disturbance": "magnetic_disturbance:t0=2",
         "case_magnet": "case_magnet:offset=10/0/0",
+        "mode_change": "mode_change:t0=5,mode=pocketed",
+        "wrong_device": "wrong_device:device=honor_50",
     }
     assert set(examples) == set(FAULTS)
     for spec in examples.values():
@@ -228,6 +232,9 @@ def test_every_fault_round_trips_its_spec_and_leaves_the_input_alone():
         ("scale:stream=truth,factor=2", "fault scale: stream = 'truth': not a sensor stream"),
         ("saturation:stream=mag,full_scale=-1", "full_scale must be a positive number"),
         ("jitter:stream=mag,sigma=nan", "sigma must be a non-negative number"),
+        ("mode_change:t0=5,mode=juggling", "fault mode_change: mode = 'juggling': "),
+        ("mode_change:t0=0,mode=pocketed", "t0 must be a positive number of seconds"),
+        ("wrong_device:device=nokia", "fault wrong_device: device = 'nokia': unknown device"),
     ],
 )
 def test_parser_errors_name_the_fault_and_parameter(spec, message):
@@ -240,3 +247,39 @@ def test_a_fault_on_an_absent_stream_says_which():
     rec = Recording(streams={"accel": _xyz(0.0)})
     with pytest.raises(FaultError, match="fault lights_off: the recording has no 'light'"):
         _apply("lights_off:t0=0,t1=1", rec)
+
+
+def test_walk_faults_change_the_simulated_walk_and_not_the_recording():
+    faults = [
+        parse_fault("mode_change:t0=20,mode=pocketed"),
+        parse_fault("wrong_device:device=honor_50"),
+        parse_fault("scale:stream=accel,factor=2"),
+    ]
+    assert [isinstance(f, WalkFault) for f in faults] == [True, True, False]
+    schedule, device = walk_arguments(faults, [(0, "handheld"), (10, "calling")], "nexus_5x")
+    assert device == "honor_50"
+    assert [(e.t_start_s, e.mode) for e in schedule.entries] == [
+        (0.0, "handheld"),
+        (10.0, "calling"),
+        (20.0, "pocketed"),
+    ]
+    # A later entry of the declared schedule is overridden from t0 on.
+    schedule, _ = walk_arguments(faults[:1], [(0, "handheld"), (30, "calling")], "ideal")
+    assert [(e.t_start_s, e.mode) for e in schedule.entries] == [(0, "handheld"), (20, "pocketed")]
+    # Recording-wise they are the identity, recorded in the metadata.
+    rec = _recording()
+    out = apply_faults(rec, faults[:2], seed=0)
+    assert _same(out, rec)
+    assert [f["name"] for f in out.meta["faults"]] == ["mode_change", "wrong_device"]
+
+
+@pytest.mark.parametrize(
+    ("spec", "mode", "device", "message"),
+    [
+        ("mode_change:t0=5,mode=pocketed", "pocketed", "ideal", "already carried at t0 = 5 s"),
+        ("wrong_device:device=ideal", "handheld", "ideal", "is the declared device: no fault"),
+    ],
+)
+def test_a_walk_fault_that_changes_nothing_is_refused(spec, mode, device, message):
+    with pytest.raises(FaultError, match=message):
+        walk_arguments([parse_fault(spec)], mode, device)
