@@ -27,9 +27,9 @@ import indoorsim.envs.positioning
 from indoorsim.benchmark.evaluation import run_episode, start_info, true_positions_at
 from indoorsim.envs.positioning import IndoorPositioningEnv
 from indoorsim.estimators.base import SiteContext, StartInfo
+from indoorsim.io.faults import FaultError, apply_faults
 from indoorsim.scenario import bundled_scenarios
 from indoorsim.simulate import simulate
-from indoorsim.io.faults import FaultError, apply_faults
 from indoorsim.windows import Observation, Windower
 
 ENV_IDS = sorted(
@@ -288,14 +288,14 @@ def test_faults_change_the_walk_as_evaluate_does():
     site = indoorsim.load_site("minimal_room")
     specs = ["wrong_device:device=honor_50", "nan_burst:stream=accel,t0=2,t1=3", "dropout:p=0.3"]
     env = gym.make(SMALL, faults=specs).unwrapped
-    assert [f.spec() for f in env.faults][0] == "wrong_device:device=honor_50"
+    assert env.faults[0].spec() == "wrong_device:device=honor_50"
     obs, _ = env.reset(seed=3)
     clean = simulate(site, route="main", mode="handheld", device="honor_50", seed=3)
     faulty = apply_faults(clean, env.faults, seed=3)
     seen = [obs["accel"]]
     terminated = False
     while not terminated:
-        obs, _, terminated, _, info = env.step(env.action_space.low + 10.0)
+        obs, _, terminated, _, _ = env.step(env.action_space.low + 10.0)
         seen.append(obs["accel"])
     # The env's windows are the faulty recording's, cut with the declared phone's window.
     windows = Windower(faulty, env.site_context.window_samples, env.bssids)
