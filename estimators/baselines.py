@@ -32,6 +32,7 @@ from indoorsim.estimators.base import (
 from indoorsim.estimators.fingerprint import WKNN
 from indoorsim.estimators.frames import geomagnetic_mean
 from indoorsim.estimators.pdr import WEINBERG_K, GyroHeading, PeakStepDetector, weinberg
+from indoorsim.estimators.samples import SampleGuard
 from indoorsim.io.recording import Recording
 
 __all__ = ["PdrBasic", "StartOnly", "WknnMag"]
@@ -103,6 +104,7 @@ class PdrBasic:
     )
     _steps: int = field(default=0, init=False, repr=False, compare=False)
     _estimate_time: float = field(default=0.0, init=False, repr=False, compare=False)
+    _guard: SampleGuard = field(default_factory=SampleGuard, init=False, repr=False, compare=False)
 
     @property
     def heading(self) -> float:
@@ -128,10 +130,12 @@ class PdrBasic:
         self._estimate_time = float(start.t0)
         self.detector.reset()
         self.gyro_heading.reset(start.heading)
+        self._guard.reset()
 
     def act(self, obs: Observation) -> NDArray[np.float64]:
         if self._position is None:
             raise not_reset_error(self.name)
+        obs = self._guard(obs)
         valid = obs["valid"].astype(bool)
         t = obs["t"][valid]
         acc = obs["accel"][valid]
@@ -186,6 +190,7 @@ class WknnMag:
     _position: NDArray[np.float64] | None = field(
         default=None, init=False, repr=False, compare=False
     )
+    _guard: SampleGuard = field(default_factory=SampleGuard, init=False, repr=False, compare=False)
 
     def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
         """Index the grid survey's magnetic fingerprints.
@@ -215,6 +220,7 @@ class WknnMag:
 
     def reset(self, start: StartInfo) -> None:
         self._position = np.array(start.position, dtype=float)
+        self._guard.reset()
 
     def act(self, obs: Observation) -> NDArray[np.float64]:
         if self._knn is None:
@@ -223,7 +229,7 @@ class WknnMag:
             )
         if self._position is None:
             raise not_reset_error(self.name)
-        field_geo = geomagnetic_mean(obs)
+        field_geo = geomagnetic_mean(self._guard(obs))
         if field_geo is None:
             return self._position.copy()
         self._position = self._knn.predict(field_geo[None, :])[0]

@@ -153,6 +153,7 @@ from indoorsim.estimators.fingerprint.sequences import (
 from indoorsim.estimators.frames import wrap_angle
 from indoorsim.estimators.pdr.gait import GaitDeadReckoning, GaitStep
 from indoorsim.estimators.pipelines.han2023 import match_steps, median_step_lag_s, step_lag_s
+from indoorsim.estimators.samples import SampleGuard
 from indoorsim.io.recording import Recording
 from indoorsim.util.seeding import generator
 from indoorsim.windows import Windower
@@ -263,6 +264,7 @@ class FixTracker:
     _pending: tuple[float, NDArray[np.float64]] | None = field(default=None, **_STATE)
     _g_lp: NDArray[np.float64] | None = field(default=None, **_STATE)
     _estimate_time: float = field(default=0.0, **_STATE)
+    _guard: SampleGuard = field(default_factory=SampleGuard, **_STATE)
 
     @property
     def estimate_time(self) -> float:
@@ -281,9 +283,11 @@ class FixTracker:
         self._xy_steps = np.zeros((1, 2))
         self._mag_t, self._mag_hv = np.empty(0), np.empty((0, 2))
         self._scans, self._pending, self._g_lp = [], None, None
+        self._guard.reset()
 
     def process(self, obs: Observation) -> list[StepFixes]:
         """Take the next window; return its detected steps, each with its fixes."""
+        obs = self._guard(obs)
         valid = obs["valid"].astype(bool)
         if not valid.any():
             return []

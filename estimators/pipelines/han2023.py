@@ -78,6 +78,7 @@ from indoorsim.estimators.pdr import (
     mag_heading,
     weinberg,
 )
+from indoorsim.estimators.samples import SampleGuard
 from indoorsim.io.recording import Recording
 from indoorsim.windows import Windower
 
@@ -243,6 +244,7 @@ class Han2023Pdr:
         default_factory=lambda: np.empty(0), init=False, repr=False, compare=False
     )
     _heading: float = field(default=0.0, init=False, repr=False, compare=False)
+    _guard: SampleGuard = field(default_factory=SampleGuard, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if self.bkf_origin not in ("zero", "start"):
@@ -317,6 +319,7 @@ class Han2023Pdr:
         self._gyro_dn.reset()
         self._mag_dn.reset()
         self._hist_t, self._hist_h = np.empty(0), np.empty(0)
+        self._guard.reset()
 
     def _headings(self, obs: Observation, valid: NDArray[np.bool_]) -> None:
         """Run the heading method over the window's samples and extend the history."""
@@ -368,6 +371,7 @@ class Han2023Pdr:
     def act(self, obs: Observation) -> NDArray[np.float64]:
         if self._position is None:
             raise not_reset_error(self.name)
+        obs = self._guard(obs)
         valid = obs["valid"].astype(bool)
         if not valid.any():
             return self._position.copy()
@@ -455,6 +459,7 @@ class Han2023GML:
     library: FingerprintLibrary | None = field(default=None, init=False, repr=False, compare=False)
     network: TentAsoBP | None = field(default=None, init=False, repr=False, compare=False)
     _mean_light: float = field(default=0.0, init=False, repr=False, compare=False)
+    _guard: SampleGuard = field(default_factory=SampleGuard, init=False, repr=False, compare=False)
     _position: NDArray[np.float64] | None = field(
         default=None, init=False, repr=False, compare=False
     )
@@ -506,6 +511,7 @@ class Han2023GML:
     def reset(self, start: StartInfo) -> None:
         self._position = np.array(start.position, dtype=float)
         self._estimate_time = float(start.t0)
+        self._guard.reset()
 
     def window_features(self, obs: Observation) -> NDArray[np.float64] | None:
         """The window's feature vector, or None without a fresh, rotatable magnetometer sample."""
@@ -527,6 +533,7 @@ class Han2023GML:
             raise RuntimeError(f"{self.name}: call fit(site, train) first (it needs a grid survey)")
         if self._position is None:
             raise not_reset_error(self.name)
+        obs = self._guard(obs)
         f = self.window_features(obs)
         if f is not None:
             self._position = self.predict(f[None, :])[0]

@@ -87,6 +87,7 @@ from indoorsim.estimators.base import (
 )
 from indoorsim.estimators.frames import to_world, wrap_angle
 from indoorsim.estimators.nn.inertial import Checkpoint, load_checkpoint
+from indoorsim.estimators.samples import SampleGuard
 from indoorsim.io.recording import Recording
 from indoorsim.util import quaternion
 
@@ -140,6 +141,7 @@ class LearnedIO:
     )
     _grid0: float = field(default=0.0, init=False, repr=False, compare=False)
     _next_k: int = field(default=0, init=False, repr=False, compare=False)
+    _guard: SampleGuard = field(default_factory=SampleGuard, init=False, repr=False, compare=False)
 
     @property
     def heading(self) -> float:
@@ -170,6 +172,7 @@ class LearnedIO:
         self._t_done = float(start.t0)
         self._to_building = self._site_offset
         self._align_pending = self.frame_offset == "start"
+        self._guard.reset()
         self._clear()
 
     def _clear(self) -> None:
@@ -182,6 +185,7 @@ class LearnedIO:
             raise RuntimeError(f"{self.name}: call fit(site, train) first (it loads the network)")
         if self._position is None:
             raise not_reset_error(self.name)
+        obs = self._guard(obs)
         valid = obs["valid"].astype(bool)
         t = obs["t"][valid]
         if not len(t):

@@ -69,7 +69,7 @@ from indoorsim.estimators.base import (
     StartInfo,
     estimator_class,
 )
-from indoorsim.io.faults import Fault, apply_faults, walk_arguments
+from indoorsim.io.faults import Fault, apply_faults, parse_fault, walk_arguments
 from indoorsim.io.fingerprints import FingerprintDB
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
@@ -635,6 +635,17 @@ def _check_site() -> Site:
     return Site(base.model_copy(update={"surveys": surveys}))
 
 
+# A faulty driver's worst: every sensor stream NaN for 2 s, then 2 s of nothing.
+_CONTRACT_FAULTS = (
+    *(
+        f"nan_burst:stream={stream},t0=4,t1=6"
+        for stream in ("accel", "gyro", "mag", "light", "wifi", "rotation", "game_rotation")
+    ),
+    "nan_burst:stream=gravity,t0=4,t1=6",
+    "gap:t0=9,t1=11,streams=accel/gyro/mag/light/rotation/game_rotation/gravity",
+)
+
+
 def check_estimator(estimator: Estimator | str) -> None:
     """Check that ``estimator`` honours the protocol on a small simulated site.
 
@@ -642,7 +653,9 @@ def check_estimator(estimator: Estimator | str) -> None:
     labelled walks; after ``reset`` every ``act`` returns a finite (2,) array;
     the same episode twice gives the same estimates (deterministic given the
     episode seed); it copes with a window whose slow sensors are absent
-    (``present`` flags zero) — a real log without light or WiFi.
+    (``present`` flags zero) — a real log without light or WiFi — and with a
+    faulty recording: NaN in every sensor stream for 2 s (a driver reporting
+    garbage), then a 2 s gap in all of them.
 
     Raises:
         EstimatorContractError: naming the broken rule.
@@ -676,4 +689,12 @@ def check_estimator(estimator: Estimator | str) -> None:
     except Exception as err:
         raise EstimatorContractError(
             f"{label}: failed on a recording with only accel, gyro and mag: {err!r}"
+        ) from err
+    faulty = apply_faults(rec, [parse_fault(spec) for spec in _CONTRACT_FAULTS], seed=7)
+    try:
+        run_episode(est, faulty, ctx, start_info(rec, seed=7))
+    except Exception as err:
+        raise EstimatorContractError(
+            f"{label}: failed on a faulty recording (NaN on every sensor stream for 2 s, "
+            f"then a 2 s gap): {err}"
         ) from err

@@ -4,14 +4,16 @@
 :func:`~indoorsim.benchmark.evaluation.evaluate` runs:
 per scenario a Markdown table and a CSV (rows = estimator × mode; mean and
 spread over seeds; provenance columns), error-CDF and trajectory plots, a
-real-data table, ``README.md`` assembled from those tables and the
-hand-written ``leaderboards/commentary.md``, and the static site ``site/``
-(:func:`~indoorsim.benchmark.results_site.write_site`).
+real-data table, the robustness board (every estimator × sensor fault:
+:mod:`~indoorsim.benchmark.robustness`), ``README.md`` assembled from those
+tables and the hand-written ``leaderboards/commentary.md``, and the static site
+``site/`` (:func:`~indoorsim.benchmark.results_site.write_site`).
 """
 
 from __future__ import annotations
 
 import json
+import time
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -32,6 +34,7 @@ from indoorsim.benchmark.evaluation import (
 )
 from indoorsim.benchmark.realism.report import RealismConfig, run_realism
 from indoorsim.benchmark.results_site import write_site
+from indoorsim.benchmark.robustness import RobustnessConfig, run_robustness, write_robustness
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
 from indoorsim.util.provenance import REPO, git_revision, realdata_dir
@@ -154,6 +157,8 @@ class BoardConfig:
     paper_experiments: bool = True
     realism: bool = True
     """Also write ``realism.md``: simulated motion, field, WiFi and light beside real ones."""
+    robustness: bool = True
+    """Also write ``robustness.md``: every estimator under every sensor fault."""
 
     @classmethod
     def quick(cls, scenarios: Sequence[str] | None = None) -> BoardConfig:
@@ -166,6 +171,7 @@ class BoardConfig:
             real_data=False,
             paper_experiments=False,
             realism=False,
+            robustness=False,
         )
 
 
@@ -233,10 +239,35 @@ def run_leaderboard(
             realdata=None if realdata is None else real,
             progress=progress,
         )
+    if config.robustness:
+        write_robustness_board(config, out, progress=progress)
     write_provenance(out, {"config": _jsonable_config(config)})
     write_readme(out, tables)
     write_site(out)
     return tables
+
+
+def write_robustness_board(
+    config: BoardConfig, out: Path, *, progress: Progress | None = None
+) -> pd.DataFrame:
+    """``robustness.md``, ``.csv`` and ``.png`` for the board's estimators, device and window."""
+    robust = RobustnessConfig(
+        estimators=config.estimators,
+        device=config.device,
+        survey_device=config.survey_device,
+        window_s=config.window_s,
+    )
+    t0 = time.perf_counter()
+    table = run_robustness(robust, progress=progress)
+    write_robustness(out, table, robust, elapsed_s=time.perf_counter() - t0)
+    return table
+
+
+def tables_on_disk(out: Path, config: BoardConfig) -> dict[str, pd.DataFrame]:
+    """The scenario and real-data tables an earlier run wrote into ``out``, as run_leaderboard
+    returns them (to reassemble ``README.md`` after regenerating one part)."""
+    names = [*config.scenarios, "real_data"]
+    return {n: pd.read_csv(out / f"{n}.csv") for n in names if (out / f"{n}.csv").is_file()}
 
 
 def _jsonable_config(config: BoardConfig) -> dict[str, Any]:
@@ -393,6 +424,19 @@ def write_readme(out: Path, tables: dict[str, pd.DataFrame]) -> None:
         report = out / f"{paper}.md"
         if report.is_file():
             parts += [report.read_text().rstrip(), ""]
+    if (out / "robustness.md").is_file():
+        crashes = (out / "robustness.md").read_text().split("**Crashes: ", 1)[-1].split("**")[0]
+        parts += [
+            "## Robustness",
+            "",
+            "Every estimator under every sensor fault (dropouts, NaN bursts, stuck streams, "
+            "bias steps, saturation, missing sensors, WiFi outages, magnetic disturbances, "
+            f"an undeclared mode change, the wrong phone): {crashes} crashes; error ratios and "
+            "recovery times in [robustness.md](robustness.md).",
+            "",
+            "![robustness](robustness.png)",
+            "",
+        ]
     realism = out / "realism.md"
     if realism.is_file():
         parts += [

@@ -351,6 +351,18 @@ def _pages(out: Path, provenance: dict[str, Any]) -> list[Page]:
         ),
         _csv_page(
             out,
+            "robustness",
+            "Robustness",
+            "Every estimator under every sensor fault: whether it crashed, its mean error "
+            "under the fault over the fault-free one (ratio), and the time to recover after "
+            "a fault that ends (s; inf: not before the walk's end).",
+            [("robustness", "estimator × fault")],
+            provenance,
+            markdown="robustness.md",
+            images=("robustness",),
+        ),
+        _csv_page(
+            out,
             "real_data",
             "Real data",
             "Real recordings: Indoor Location Competition 2.0 traces scored at the "

@@ -347,6 +347,12 @@ def add_leaderboard(subparsers: Subparsers) -> None:
         action="store_true",
         help="only rebuild the static site (DIR/site/) from the CSVs already in --out",
     )
+    parser.add_argument(
+        "--robustness-only",
+        action="store_true",
+        help="only regenerate the robustness board (every estimator under every sensor "
+        "fault: DIR/robustness.md), then README.md and the site from the tables in --out",
+    )
     add_board_folders(
         parser,
         "the folder of real recordings for the real-data tables (default: "
@@ -394,6 +400,22 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
     )
     if args.estimator:
         config = dataclasses.replace(config, estimators=tuple(args.estimator))
+    if args.robustness_only:
+        from indoorsim.benchmark.results_site import write_site
+
+        with tqdm(desc="robustness", disable=None, file=sys.stderr) as bar:
+            try:
+                leaderboard.write_robustness_board(
+                    config,
+                    args.out,
+                    progress=lambda msg: (bar.set_postfix_str(msg), bar.update(1)),
+                )
+            except EstimatorError as err:
+                raise CliError(str(err)) from err
+        leaderboard.write_readme(args.out, leaderboard.tables_on_disk(args.out, config))
+        write_site(args.out)
+        print(f"wrote {args.out / 'robustness.md'}")
+        return 0
     try:
         with tqdm(desc="leaderboard", disable=None, file=sys.stderr) as bar:
             tables = leaderboard.run_leaderboard(

@@ -12,7 +12,7 @@ Modules:
   walk or a real phone log.
 * :mod:`~indoorsim.plots.results` — :func:`plot_error_cdfs`,
   :func:`plot_tracks`, :func:`plot_named_cdfs`, :func:`plot_training_curves`,
-  :func:`plot_realism_profiles`.
+  :func:`plot_realism_profiles`, :func:`plot_robustness`.
 
 The public functions are re-exported here (``from indoorsim.plots import
 draw_plan``). Every figure is a free-standing :class:`matplotlib.figure.Figure`
@@ -33,6 +33,7 @@ from indoorsim.plots.results import (
     plot_error_cdfs,
     plot_named_cdfs,
     plot_realism_profiles,
+    plot_robustness,
     plot_tracks,
     plot_training_curves,
 )
@@ -57,6 +58,7 @@ __all__ = [
     "plot_realism_profiles",
     "plot_recording_streams",
     "plot_recording_track",
+    "plot_robustness",
     "plot_site_fields",
     "plot_site_map",
     "plot_tracks",

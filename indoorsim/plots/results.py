@@ -11,6 +11,8 @@
 * :func:`plot_training_curves` — BP training MSE per epoch (Han2023 Fig. 14).
 * :func:`plot_realism_profiles` — real and simulated ‖a‖/‖ω‖ spectra and ‖a‖
   histograms overlaid, one row per carrying mode (``realism_motion.png``).
+* :func:`plot_robustness` — the heat map of error ratios, estimator × fault,
+  crashes marked (``robustness.png``).
 """
 
 from __future__ import annotations
@@ -288,4 +290,46 @@ def plot_realism_profiles(real: Any, sim: Any) -> Figure:
             ax.tick_params(labelsize=7)
             if ax.lines:
                 ax.legend(fontsize=7)
+    return fig
+
+
+def plot_robustness(ratios: Any, clean_ae: Any) -> Figure:
+    """Heat map of error ratios (faulty / fault-free mean error): estimators down, faults across.
+
+    Args:
+        ratios: a DataFrame, estimators × fault labels; NaN where the estimator crashed.
+        clean_ae: the fault-free mean error per estimator (a Series on the same index), m.
+
+    The colour is log2 of the ratio on a diverging scale centred at 1 (no
+    change) and clipped at 1/2 and 16; each cell also prints the ratio, and
+    a crash is a black cell marked "crash".
+    """
+    from matplotlib.colors import TwoSlopeNorm
+
+    values = ratios.to_numpy(dtype=float)
+    n_est, n_fault = values.shape
+    fig = agg_figure((0.55 * n_fault + 2.6, 0.32 * n_est + 2.2))
+    ax = fig.add_subplot()
+    shown = np.log2(np.clip(values, 0.5, 16.0))
+    norm = TwoSlopeNorm(vmin=-1.0, vcenter=0.0, vmax=4.0)
+    image = ax.imshow(np.ma.masked_invalid(shown), cmap="RdBu_r", norm=norm, aspect="auto")
+    ax.set_facecolor("black")  # masked (crashed) cells
+    for i in range(n_est):
+        for j in range(n_fault):
+            v = values[i, j]
+            text = "crash" if not np.isfinite(v) else f"{v:.1f}" if v < 9.95 else f"{v:.0f}"
+            dark = not np.isfinite(v) or abs(shown[i, j]) > 2.0
+            ax.text(
+                j, i, text, ha="center", va="center", fontsize=6, color="white" if dark else "black"
+            )
+    ax.set_xticks(range(n_fault), list(ratios.columns), rotation=60, ha="right", fontsize=7)
+    labels = [f"{e} ({a:.1f} m)" for e, a in zip(ratios.index, np.asarray(clean_ae), strict=True)]
+    ax.set_yticks(range(n_est), labels, fontsize=7)
+    bar = fig.colorbar(image, ax=ax, fraction=0.03, pad=0.01)
+    ticks = [-1, 0, 1, 2, 3, 4]
+    bar.set_ticks(ticks, labels=[f"{2.0**t:g}×" for t in ticks])
+    bar.ax.tick_params(labelsize=7)
+    ax.set_title(
+        "error under the fault / fault-free (fault-free mean error in brackets)", fontsize=8
+    )
     return fig

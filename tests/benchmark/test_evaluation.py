@@ -60,6 +60,15 @@ class _Crashing(_Broken):
         return obs["accel"][10_000]  # an IndexError inside the estimator
 
 
+class _Trusting(_Broken):
+    """Integrates the accelerometer without looking: NaN in, NaN out."""
+
+    name = "trusting"
+
+    def act(self, obs):
+        return obs["accel"][obs["valid"].astype(bool), :2].sum(axis=0) * 0.0
+
+
 def test_contract_check_names_the_broken_rule():
     with pytest.raises(EstimatorContractError, match="expected a finite"):
         check_estimator(_Broken())
@@ -71,6 +80,12 @@ def test_contract_check_names_the_broken_rule():
         r"at window 0 \(t = \d+\.\d\d s\) of seed 7: index 10000 is out of bounds",
     ):
         check_estimator(_Crashing())
+    with pytest.raises(
+        EstimatorContractError,
+        match=r"trusting: failed on a faulty recording \(NaN on every sensor stream for 2 s, "
+        r"then a 2 s gap\): estimator 'trusting' returned array\(\[nan, nan\]\)",
+    ):
+        check_estimator(_Trusting())
     nameless = _Broken((0.0, 0.0))
     nameless.name = ""
     with pytest.raises(EstimatorContractError, match="no non-empty 'name'"):
