@@ -17,7 +17,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -293,12 +293,13 @@ def plot_realism_profiles(real: Any, sim: Any) -> Figure:
     return fig
 
 
-def plot_robustness(ratios: Any, clean_ae: Any) -> Figure:
-    """Heat map of error ratios (faulty / fault-free mean error): estimators down, faults across.
+def plot_robustness(panels: Mapping[str, tuple[Any, Any]]) -> Figure:
+    """Heat maps of error ratios (faulty / fault-free mean error), one panel per carrying mode.
 
     Args:
-        ratios: a DataFrame, estimators × fault labels; NaN where the estimator crashed.
-        clean_ae: the fault-free mean error per estimator (a Series on the same index), m.
+        panels: per mode, a DataFrame of estimators × fault labels (the ratio;
+            NaN where the estimator crashed) and a Series of each estimator's
+            fault-free mean error (m) on the same index.
 
     The colour is log2 of the ratio on a diverging scale centred at 1 (no
     change) and clipped at 1/2 and 16; each cell also prints the ratio, and
@@ -306,30 +307,43 @@ def plot_robustness(ratios: Any, clean_ae: Any) -> Figure:
     """
     from matplotlib.colors import TwoSlopeNorm
 
-    values = ratios.to_numpy(dtype=float)
-    n_est, n_fault = values.shape
-    fig = agg_figure((0.55 * n_fault + 2.6, 0.32 * n_est + 2.2))
-    ax = fig.add_subplot()
-    shown = np.log2(np.clip(values, 0.5, 16.0))
     norm = TwoSlopeNorm(vmin=-1.0, vcenter=0.0, vmax=4.0)
-    image = ax.imshow(np.ma.masked_invalid(shown), cmap="RdBu_r", norm=norm, aspect="auto")
-    ax.set_facecolor("black")  # masked (crashed) cells
-    for i in range(n_est):
-        for j in range(n_fault):
-            v = values[i, j]
+    shapes = [ratios.shape for ratios, _ in panels.values()]
+    n_fault = max(c for _, c in shapes)
+    heights = [r for r, _ in shapes]
+    fig = agg_figure((0.55 * n_fault + 2.8, 0.3 * sum(heights) + 1.0 * len(heights) + 1.6))
+    axes = fig.subplots(len(panels), 1, squeeze=False, gridspec_kw={"height_ratios": heights})
+    image = None
+    for ax, (mode, (ratios, clean_ae)) in zip(axes[:, 0], panels.items(), strict=True):
+        values = ratios.to_numpy(dtype=float)
+        shown = np.log2(np.clip(values, 0.5, 16.0))
+        image = ax.imshow(np.ma.masked_invalid(shown), cmap="RdBu_r", norm=norm, aspect="auto")
+        ax.set_facecolor("black")  # masked (crashed) cells
+        for (i, j), v in np.ndenumerate(values):
             text = "crash" if not np.isfinite(v) else f"{v:.1f}" if v < 9.95 else f"{v:.0f}"
             dark = not np.isfinite(v) or abs(shown[i, j]) > 2.0
             ax.text(
-                j, i, text, ha="center", va="center", fontsize=6, color="white" if dark else "black"
+                j,
+                i,
+                text,
+                ha="center",
+                va="center",
+                fontsize=6,
+                color="white" if dark else "black",
             )
-    ax.set_xticks(range(n_fault), list(ratios.columns), rotation=60, ha="right", fontsize=7)
-    labels = [f"{e} ({a:.1f} m)" for e, a in zip(ratios.index, np.asarray(clean_ae), strict=True)]
-    ax.set_yticks(range(n_est), labels, fontsize=7)
-    bar = fig.colorbar(image, ax=ax, fraction=0.03, pad=0.01)
+        ax.set_xticks(range(values.shape[1]), list(ratios.columns), rotation=60, ha="right")
+        ax.tick_params(labelsize=7)
+        labels = [
+            f"{e} ({a:.1f} m)" for e, a in zip(ratios.index, np.asarray(clean_ae), strict=True)
+        ]
+        ax.set_yticks(range(values.shape[0]), labels)
+        ax.set_title(
+            f"{mode}: error under the fault / fault-free (fault-free mean error)",
+            fontsize=8,
+            loc="left",
+        )
+    bar = fig.colorbar(image, ax=list(axes[:, 0]), fraction=0.02, pad=0.01)
     ticks = [-1, 0, 1, 2, 3, 4]
     bar.set_ticks(ticks, labels=[f"{2.0**t:g}×" for t in ticks])
     bar.ax.tick_params(labelsize=7)
-    ax.set_title(
-        "error under the fault / fault-free (fault-free mean error in brackets)", fontsize=8
-    )
     return fig

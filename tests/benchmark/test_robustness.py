@@ -66,6 +66,7 @@ def small_board():
         estimators=("start-only", "pdr-basic", "tests.benchmark.test_robustness:Trusting"),
         faults=("nan_burst:stream=accel,t0=5,t1=8", "gap:t0=5,t1=8", "missing:streams=light"),
         scenario="minimal_room",
+        modes=("handheld",),
         seeds=(0,),
     )
     return config, run_robustness(config)
@@ -73,7 +74,8 @@ def small_board():
 
 def test_crashes_ratios_and_recovery_on_a_small_board(small_board):
     _, table = small_board
-    cell = table.set_index(["estimator", "fault_name"])
+    assert (table["mode"] == "handheld").all()
+    cell = table.assign(name=table["fault"].str.partition(":")[0]).set_index(["estimator", "name"])
     # The start is the start whatever the sensors say: exactly the fault-free error.
     assert (cell.loc["start-only", "ratio"] == 1.0).all()
     assert cell.loc[("start-only", "gap"), "recovery_s"] == 0.0
@@ -94,9 +96,17 @@ def test_the_written_board_lists_every_cell_and_the_crash(small_board, tmp_path)
     config, table = small_board
     write_robustness(tmp_path, table, config, elapsed_s=1.0)
     text = (tmp_path / "robustness.md").read_text()
-    assert "**Crashes: 1** of 9 estimator × fault cells" in text
+    assert "**Crashes: 1** of 9 mode × estimator × fault cells" in text
     assert "| tests.benchmark.test_robustness:Trusting |" in text and "**crash**" in text
-    assert "nan_burst accel" in text and "missing light" in text
+    assert "nan_burst accel" in text and "missing light" in text and "## handheld:" in text
     assert (tmp_path / "robustness.png").stat().st_size > 10_000
     again = pd.read_csv(tmp_path / "robustness.csv")
     assert len(again) == len(table) == 9
+
+
+def test_a_change_into_the_walked_mode_goes_to_the_hand_instead():
+    from indoorsim.benchmark.robustness import _for_mode
+
+    into_pocket = parse_fault("mode_change:t0=30,mode=pocketed")
+    assert _for_mode(into_pocket, "handheld") is into_pocket
+    assert _for_mode(into_pocket, "pocketed").spec() == "mode_change:t0=30,mode=handheld"
