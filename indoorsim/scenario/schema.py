@@ -463,10 +463,11 @@ class MultipathSpec(_Spec):
     paths: Annotated[int, Field(ge=4, le=256)] = 24
     delay_spread_ns: PositiveFloat = 40.0
     """rms delay spread: 3GPP TR 38.901 InH-office 20 ns LOS, 48 ns NLOS at 2.4 GHz [S/D]."""
-    rician_k_db: float = 7.0
-    """Mean K-factor of an unobstructed link, dB: 3GPP TR 38.901 InH LOS, μ_K = 7 dB [S]."""
-    rician_k_sigma_db: NonNegFloat = 4.0
-    """Spread of K between APs, dB: 3GPP TR 38.901 InH LOS, σ_K = 4 dB [S]."""
+    rician_k_db: Annotated[float, Field(ge=-100, le=100)] = 7.0
+    """Mean K-factor of an unobstructed link, dB: 3GPP TR 38.901 InH LOS, μ_K = 7 dB [S].
+    Within ±100 dB (10^(K/10) of a K beyond that would overflow, and mean nothing)."""
+    rician_k_sigma_db: Annotated[float, Field(ge=0, le=30)] = 4.0
+    """Spread of K between APs, dB: 3GPP TR 38.901 InH LOS, σ_K = 4 dB [S]; at most 30 dB."""
     bandwidth_mhz: Annotated[float, Field(gt=0, le=160)] = 20.0
     """Channel over which the RSSI is measured (a 20 MHz WiFi channel)."""
 
@@ -482,7 +483,10 @@ class RadioSpec(_Spec):
     zone at 2.4–5 GHz (≈ 0.5 m at 5 m range), so most power diffracts around
     it; a few dB [E] rather than a concrete wall's 12–26 dB."""
     shadowing_sigma_db: NonNegFloat = 4.0
-    shadowing_correlation_m: PositiveFloat = 8.0
+    shadowing_correlation_m: Annotated[float, Field(ge=1, le=100, allow_inf_nan=False)] = 8.0
+    """Decorrelation distance of the shadowing field, m: 6–10 m indoors (REALISM §4.3).
+    Within [1, 100] m: the field is sampled at a tenth of it and embedded in a grid
+    8 of it wider, which below 1 m or above 100 m outgrows the memory of a machine."""
     floors_above: Annotated[int, Field(ge=0, le=3)] = 1
     floors_below: Annotated[int, Field(ge=0, le=3)] = 1
     """Storeys above and below whose APs the phone hears through the slabs. Each is

@@ -162,11 +162,11 @@ class PointSources:
                 takes a direction across the axis).
         """
         pos = np.asarray(position, dtype=float).reshape(-1, 3)
-        ax = np.asarray(axis, dtype=float).reshape(-1, 3)
-        ax = ax / np.linalg.norm(ax, axis=1, keepdims=True)
+        ax = _unit_rows(np.asarray(axis, dtype=float).reshape(-1, 3))
         n = len(pos)
         size = np.broadcast_to(np.asarray(size_m, dtype=float), (n, 2))
         u = np.broadcast_to(np.asarray(along, dtype=float), (n, 3)).copy()
+        u /= np.maximum(np.max(np.abs(u), axis=1, keepdims=True), 1e-300)  # no overflow below
         u -= np.sum(u * ax, axis=1, keepdims=True) * ax
         length = np.linalg.norm(u, axis=1)
         # An ``along`` parallel to the axis: any direction across it.
@@ -887,3 +887,10 @@ def door_openings(scenario: Scenario, rooms: list[Polygon]) -> list[tuple[int, i
                 out.append((sides[0], sides[1], door.width * door.height))
             break
     return out
+
+
+def _unit_rows(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Each row of ``v`` scaled to length 1; rows of components near 1e300 too (their
+    squares would overflow), so a direction given as (1e300, 0, 0) is +x."""
+    v = v / np.max(np.abs(v), axis=1, keepdims=True)
+    return v / np.linalg.norm(v, axis=1, keepdims=True)

@@ -16,6 +16,7 @@ import io
 import itertools
 import math
 import re
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -393,6 +394,50 @@ def test_a_damaged_file_is_one_clear_error_sweep(tmp_path_factory, case):
     _check_refused(tmp_path_factory.mktemp("damaged"), *case)
 
 
+CLI_ARGS = ["--mode", "handheld", "--device", "ideal", "--seed", "1"]
+EXTREMES = [1e300, -1e300, 1e9, -1e9, 1e5, -1.0, 0.0, 1e-300, 2**63]
+
+
+@st.composite
+def extreme_numbers(draw: st.DrawFn) -> bytes:
+    """The base file with one number replaced by one far out of its usual range."""
+    path = draw(st.sampled_from(NUMBERS))
+    return _yaml(_replace(BASE, path, draw(st.sampled_from(EXTREMES))))
+
+
+def _refused_or_walks(folder: Path, content: bytes) -> None:
+    """A value the schema lets through must not break the simulation further on."""
+    if _load_error(folder, content) is None:
+        site = Site(load_scenario(folder / "site.yaml"))
+        with warnings.catch_warnings():
+            # NaN or overflow anywhere on the way is a defect too, not only an exception.
+            warnings.simplefilter("error", RuntimeWarning)
+            rec = simulate(site, route="main", device="ideal", seed=1, duration_s=2.0)
+        rec.validate()
+
+
+# Found by hypothesis, each once a traceback deep in the world model: a light's
+# direction of 1e300 (NaN after normalising), a K-factor of 1e300 dB (OverflowError),
+# a shadowing correlation of 1e9 m or 1e-300 m (ValueError, OverflowError).
+@settings(max_examples=20)
+@given(content=extreme_numbers())
+@example(content=_yaml(_replace(BASE, ("luminaires", 0, "along", 1), 1e300)))
+@example(content=_yaml(_replace(BASE, ("luminaires", 0, "axis", 2), -1e300)))
+@example(content=_yaml(_replace(BASE, ("radio", "multipath", "rician_k_db"), 1e300)))
+@example(content=_yaml(_replace(BASE, ("radio", "multipath", "rician_k_sigma_db"), 1e5)))
+@example(content=_yaml(_replace(BASE, ("radio", "shadowing_correlation_m"), 1e9)))
+@example(content=_yaml(_replace(BASE, ("radio", "shadowing_correlation_m"), 1e-300)))
+def test_a_far_out_value_is_refused_or_simulates(tmp_path_factory, content):
+    _refused_or_walks(tmp_path_factory.mktemp("extreme"), content)
+
+
+@pytest.mark.slow
+@settings(SWEEP)
+@given(content=extreme_numbers())
+def test_a_far_out_value_is_refused_or_simulates_sweep(tmp_path_factory, content):
+    _refused_or_walks(tmp_path_factory.mktemp("extreme"), content)
+
+
 @settings(max_examples=15)
 @given(case=surely_invalid())
 def test_simulate_on_a_damaged_file_exits_2_without_a_traceback(tmp_path_factory, case):
@@ -401,10 +446,7 @@ def test_simulate_on_a_damaged_file_exits_2_without_a_traceback(tmp_path_factory
     scenario.write_bytes(case[0])
     stderr = io.StringIO()
     with contextlib.redirect_stderr(stderr):
-        status = main(
-            ["simulate", str(scenario), "--mode", "handheld", "--device", "ideal"]
-            + ["--seed", "1", "--out", str(out)]
-        )
+        status = main(["simulate", str(scenario), *CLI_ARGS, "--out", str(out)])
     printed = stderr.getvalue()
     assert status == 2, printed
     assert "Traceback" not in printed
