@@ -5,6 +5,12 @@ project's development layout (``../shared`` beside the repository) as default:
 ``$INDOORSIM_SHARED`` for the shared examples, ``$INDOORSIM_REALDATA`` for the
 real recordings (as :func:`indoorsim.util.provenance.realdata_dir` reads it).
 Tests that need them skip, saying which folder is missing, when they are absent.
+
+Property tests (hypothesis) run under the ``suite`` profile: a bounded number
+of examples, drawn the same way on every run, so the default suite is
+deterministic and its time bounded. ``@settings(SWEEP)`` on a ``slow`` test runs
+the same property over many more random examples; ``--hypothesis-profile slow``
+(or ``$INDOORSIM_HYPOTHESIS_PROFILE=slow``) does so for every property test.
 """
 
 from __future__ import annotations
@@ -13,6 +19,7 @@ import os
 from pathlib import Path
 
 import pytest
+from hypothesis import HealthCheck, settings
 
 from indoorsim.util.provenance import realdata_dir
 
@@ -21,6 +28,28 @@ SHARED = Path(os.environ.get("INDOORSIM_SHARED") or REPO.parent / "shared")
 REALDATA = realdata_dir()
 MINIMAL_SITE = SHARED / "examples" / "minimal-site.yaml"
 BUNDLED_MINIMAL = REPO / "scenarios" / "minimal_room.yaml"
+
+# No deadline: a first example may compile numba kernels or load a site (seconds).
+# No example database: derandomised runs would only replay what they draw anyway.
+settings.register_profile(
+    "suite",
+    max_examples=30,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.register_profile(
+    "slow",
+    max_examples=500,
+    deadline=None,
+    database=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+if settings.get_current_profile_name() == "default":  # no --hypothesis-profile given
+    settings.load_profile(os.environ.get("INDOORSIM_HYPOTHESIS_PROFILE", "suite"))
+SWEEP = settings.get_profile("slow")
+"""For the ``slow`` sweeps: the property over 500 fresh random examples a run."""
 
 
 @pytest.fixture

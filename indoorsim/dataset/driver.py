@@ -26,7 +26,10 @@ Failed shards are reported by name with their exception
 (:class:`ShardFailures`); the finished shards stay, and running the same
 command again computes only what is missing. An interrupted run (Ctrl-C)
 closes its cluster and raises :class:`DatasetInterrupted`, which says how many
-shards are complete and kept.
+shards are complete and kept. A shard that finds the disk full (``ENOSPC``, or a
+quota) stops the run the same way, as :class:`DatasetDiskFull`, since every shard
+after it would fail alike: the temporary files are deleted, so the finished shards
+are all that is left, and the same command resumes once there is space.
 
 Dask's own log lines (a worker's "Compute Failed" with its traceback, for each
 retry of a shard that fails on a full disk) are silenced for the run: the
@@ -55,6 +58,7 @@ from __future__ import annotations
 import atexit
 import contextlib
 import datetime
+import errno
 import json
 import logging
 import os
@@ -85,6 +89,7 @@ from indoorsim.dataset.shard import (
 
 __all__ = [
     "BuildReport",
+    "DatasetDiskFull",
     "DatasetFolderError",
     "DatasetInterrupted",
     "ShardFailures",
@@ -130,6 +135,24 @@ class DatasetInterrupted(KeyboardInterrupt):
     """A run stopped by Ctrl-C after its cluster closed; the message says what is kept."""
 
 
+class DatasetDiskFull(OSError):
+    """A run stopped because a shard found no space to be written (ENOSPC, or a quota).
+
+    Raised once the cluster has closed and half-written files are gone; the message
+    (one line, its ``str``) names the shard and the folder, counts the shards kept
+    and says how to resume. ``errno`` is the writer's.
+    """
+
+    def __init__(self, code: int, message: str):
+        super().__init__(code, message)
+
+    def __str__(self) -> str:
+        return self.strerror
+
+
+_DISK_FULL = frozenset({errno.ENOSPC, errno.EDQUOT})
+
+
 @dataclass
 class BuildReport:
     """What a run did.
@@ -162,8 +185,12 @@ class BuildReport:
 
 def _write_json(path: Path, data: Any) -> None:
     tmp = path.with_name(f".{path.name}{PARTIAL}")
-    tmp.write_text(json.dumps(data, indent=2, sort_keys=True, allow_nan=False) + "\n", "utf-8")
-    os.replace(tmp, path)
+    try:
+        tmp.write_text(json.dumps(data, indent=2, sort_keys=True, allow_nan=False) + "\n", "utf-8")
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)  # a full disk leaves no half-written file
+        raise
 
 
 def prepare_folder(out: Path, config: DatasetConfig) -> None:
@@ -351,6 +378,10 @@ def _client(workers: int | None, scheduler: str | None, quiet: bool = True) -> I
                 threads_per_worker=1,
                 processes=True,
                 dashboard_address=None,
+                # Without a dashboard the scheduler still serves health routes over
+                # HTTP, by default on port 8787: on a free port instead, so that a
+                # second run on the machine does not print "Port 8787 is already in use".
+                scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
                 # In the workers' processes too: the driver reports failures itself.
                 silence_logs=logging.CRITICAL + 1 if quiet else logging.ERROR,
             ) as cluster,
@@ -390,6 +421,9 @@ def build_dataset(
         ShardFailures: some shards failed after their retries (the others are kept).
         DatasetInterrupted: Ctrl-C (a ``KeyboardInterrupt``), once the cluster
             has closed; the finished shards are kept.
+        DatasetDiskFull: a shard could not be written for want of space (an
+            ``OSError``), once the cluster has closed; the finished shards are
+            kept and no half-written file is left.
     """
     from tqdm import tqdm
 
@@ -411,6 +445,7 @@ def build_dataset(
             sidecars[shard.name] = info
     report.skipped = len(sidecars)
 
+    disk_full: tuple[str, OSError] | None = None
     if todo:
         config_json = config.to_json()
         try:
@@ -443,6 +478,10 @@ def build_dataset(
                     name = futures[future]
                     if future.status == "error":
                         err = future.exception()
+                        if isinstance(err, OSError) and err.errno in _DISK_FULL:
+                            # Every shard after it would fail the same way: stop here.
+                            disk_full = (name, err)
+                            break
                         report.failures.append(ShardFailure(name, f"{type(err).__name__}: {err}"))
                     else:
                         result = future.result()
@@ -460,6 +499,17 @@ def build_dataset(
                 f"interrupted: {done} of {len(plan.shards)} shards are complete and kept in "
                 f"{root}; run the same command again to resume"
             ) from None
+    if disk_full is not None:
+        # The cluster has closed; a worker stopped mid-write may have left a temporary file.
+        _clean_partials(root)
+        name, err = disk_full
+        done = sum(shard_is_complete(root, s.name) is not None for s in plan.shards)
+        raise DatasetDiskFull(
+            err.errno,
+            f"disk full: no space left on the device to write {name} in {root} "
+            f"({err.strerror or err}); {done} of {len(plan.shards)} shards are complete and "
+            "kept; free some space and run the same command again to resume",
+        )
     report.failures.sort(key=lambda f: f.name)
     report.windows = sum(int(s["rows"]) for s in sidecars.values())
     report.hours = covered_hours(

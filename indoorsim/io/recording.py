@@ -375,7 +375,7 @@ class Recording:
     def _load_folder(cls, folder: Path) -> Recording:
         try:
             manifest = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
-        except json.JSONDecodeError as err:
+        except (json.JSONDecodeError, UnicodeDecodeError) as err:
             raise RecordingError(f"{folder / MANIFEST}: not valid JSON ({err})") from err
         version = manifest.get("format_version") if isinstance(manifest, dict) else None
         if not isinstance(version, int) or not isinstance(manifest.get("streams"), list):
@@ -391,16 +391,30 @@ class Recording:
         for entry in manifest["streams"]:
             if not isinstance(entry, dict) or not {"name", "file"} <= entry.keys():
                 raise RecordingError(f"{folder / MANIFEST}: stream entry {entry!r} lacks name/file")
-            file = folder / entry["file"]
-            if not file.is_file():
+            name, file_name, columns = entry["name"], entry["file"], entry.get("columns", {})
+            # The file is one of the folder's own: a name, not a path that leads elsewhere.
+            if not (
+                isinstance(name, str)
+                and isinstance(file_name, str)
+                and file_name == Path(file_name).name
+                and file_name not in ("", ".", "..")
+                and isinstance(columns, dict)
+            ):
                 raise RecordingError(
-                    f"{folder}: stream {entry['name']!r} lists missing {file.name}"
+                    f"{folder / MANIFEST}: stream entry {entry!r} needs a name, a file name in "
+                    "the folder and a mapping of columns"
                 )
+            file = folder / file_name
+            if not file.is_file():
+                raise RecordingError(f"{folder}: stream {name!r} lists missing {file.name}")
             try:
                 df = pd.read_parquet(file)
-            except (OSError, ValueError, pa.ArrowException) as err:  # truncated or not Parquet
+            except Exception as err:
+                # Truncated, not Parquet, or pandas' own metadata in it damaged: pyarrow
+                # and pandas raise whatever they trip on (OSError, ArrowException,
+                # KeyError, TypeError...), each meaning the file cannot be read.
                 raise RecordingError(
-                    f"{file}: stream {entry['name']!r} cannot be read as Parquet: {err}"
+                    f"{file}: stream {name!r} cannot be read as Parquet: {err}"
                 ) from err
             if len(df.columns) == 0 or df.columns[0] != "t":
                 first = df.columns[0] if len(df.columns) else None
@@ -408,10 +422,10 @@ class Recording:
             df = df.set_index("t")
             # Parquet has no "object of str" type: pandas ≥ 3 reads such columns
             # back as its string dtype, so restore the dtype the manifest recorded.
-            for column, dtype in entry.get("columns", {}).items():
+            for column, dtype in columns.items():
                 if dtype == "object" and column in df.columns and df[column].dtype != object:
                     df[column] = df[column].astype(object)
-            streams[entry["name"]] = df
+            streams[name] = df
         meta = {k: v for k, v in manifest.items() if k not in _RESERVED_META_KEYS}
         try:
             return cls(streams=streams, meta=meta)

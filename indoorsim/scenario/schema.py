@@ -126,6 +126,21 @@ def _within_site(value: float) -> float:
 FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
 PositiveFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+
+
+def _size_within_site(value: float) -> float:
+    if value > MAX_COORDINATE_M:
+        raise ValueError(
+            f"{value:g} m is beyond the size limit: lengths are metres, at most "
+            f"{MAX_COORDINATE_M:g} m"
+        )
+    return value
+
+
+Length = Annotated[float, Field(gt=0, allow_inf_nan=False), AfterValidator(_size_within_site)]
+"""A size of something built (a thickness, a width, a height), m: > 0 and at most
+:data:`MAX_COORDINATE_M` (a wall 1e300 m thick would overflow the floor plan's geometry)."""
+NonNegLength = Annotated[float, Field(ge=0, allow_inf_nan=False), AfterValidator(_size_within_site)]
 Coordinate = Annotated[float, Field(allow_inf_nan=False), AfterValidator(_within_site)]
 """A position's x, y or z, m: finite and within ±:data:`MAX_COORDINATE_M`."""
 Vec2 = tuple[Coordinate, Coordinate]
@@ -156,7 +171,7 @@ class SiteSpec(_Spec):
     date: datetime.date
     north_deg: FiniteFloat = 0.0
     """Direction of the building's +y axis, degrees clockwise from true north."""
-    ceiling_height: PositiveFloat
+    ceiling_height: Length
     altitude_km: Annotated[float, Field(ge=-1, le=10)] = 0.0
     earth_field_uT: Vec3 | None = None
     """Earth field in the building frame, overriding IGRF when given."""
@@ -178,7 +193,7 @@ class WallSpec(_Spec):
 
     start: Vec2 = Field(alias="from")
     to: Vec2
-    thickness: PositiveFloat
+    thickness: Length
     material: MaterialName = "concrete"
 
     @model_validator(mode="after")
@@ -192,8 +207,8 @@ class DoorSpec(_Spec):
     """An open doorway: a gap of ``width`` cut into the wall passing through ``position``."""
 
     position: Vec2
-    width: PositiveFloat = 0.9
-    height: PositiveFloat = 2.1
+    width: Length = 0.9
+    height: Length = 2.1
 
 
 class WindowSpec(_Spec):
@@ -201,8 +216,8 @@ class WindowSpec(_Spec):
 
     start: Vec2 = Field(alias="from")
     to: Vec2
-    sill: NonNegFloat = 0.9
-    head: PositiveFloat = 2.1
+    sill: NonNegLength = 0.9
+    head: Length = 2.1
 
     @model_validator(mode="after")
     def _valid(self) -> WindowSpec:
@@ -228,7 +243,7 @@ class PillarSpec(_Spec):
     """
 
     center: Vec2
-    size: tuple[PositiveFloat, PositiveFloat] = (0.6, 0.6)
+    size: tuple[Length, Length] = (0.6, 0.6)
     rotation_deg: FiniteFloat = 0.0
     material: MaterialName = "concrete"
     steel_volume_m3: NonNegFloat = 0.015
@@ -245,9 +260,9 @@ class ObstacleSpec(_Spec):
 
     kind: Literal["desk", "cabinet", "shelf", "counter", "machine", "other"] = "other"
     center: Vec2
-    size: tuple[PositiveFloat, PositiveFloat]
+    size: tuple[Length, Length]
     rotation_deg: FiniteFloat = 0.0
-    height: PositiveFloat = 0.75
+    height: Length = 0.75
     steel_volume_m3: NonNegFloat = 0.0
 
 
@@ -258,7 +273,7 @@ class LuminaireSpec(_Spec):
     intensity_cd: NonNegFloat
     exponent: NonNegFloat = 1.0
     axis: Vec3 = (0.0, 0.0, -1.0)
-    size: tuple[NonNegFloat, NonNegFloat] = (0.0, 0.0)
+    size: tuple[NonNegLength, NonNegLength] = (0.0, 0.0)
     """The emitting face, length × width (m) across the axis: a panel 0.6 × 0.6, a
     tube 1.2 × 0.03, a downlight 0.2 × 0.2. Only the carrier's penumbra uses it;
     the photometry is the point source's."""
@@ -448,10 +463,11 @@ class MultipathSpec(_Spec):
     paths: Annotated[int, Field(ge=4, le=256)] = 24
     delay_spread_ns: PositiveFloat = 40.0
     """rms delay spread: 3GPP TR 38.901 InH-office 20 ns LOS, 48 ns NLOS at 2.4 GHz [S/D]."""
-    rician_k_db: float = 7.0
-    """Mean K-factor of an unobstructed link, dB: 3GPP TR 38.901 InH LOS, μ_K = 7 dB [S]."""
-    rician_k_sigma_db: NonNegFloat = 4.0
-    """Spread of K between APs, dB: 3GPP TR 38.901 InH LOS, σ_K = 4 dB [S]."""
+    rician_k_db: Annotated[float, Field(ge=-100, le=100)] = 7.0
+    """Mean K-factor of an unobstructed link, dB: 3GPP TR 38.901 InH LOS, μ_K = 7 dB [S].
+    Within ±100 dB (10^(K/10) of a K beyond that would overflow, and mean nothing)."""
+    rician_k_sigma_db: Annotated[float, Field(ge=0, le=30)] = 4.0
+    """Spread of K between APs, dB: 3GPP TR 38.901 InH LOS, σ_K = 4 dB [S]; at most 30 dB."""
     bandwidth_mhz: Annotated[float, Field(gt=0, le=160)] = 20.0
     """Channel over which the RSSI is measured (a 20 MHz WiFi channel)."""
 
@@ -467,7 +483,10 @@ class RadioSpec(_Spec):
     zone at 2.4–5 GHz (≈ 0.5 m at 5 m range), so most power diffracts around
     it; a few dB [E] rather than a concrete wall's 12–26 dB."""
     shadowing_sigma_db: NonNegFloat = 4.0
-    shadowing_correlation_m: PositiveFloat = 8.0
+    shadowing_correlation_m: Annotated[float, Field(ge=1, le=100, allow_inf_nan=False)] = 8.0
+    """Decorrelation distance of the shadowing field, m: 6–10 m indoors (REALISM §4.3).
+    Within [1, 100] m: the field is sampled at a tenth of it and embedded in a grid
+    8 of it wider, which below 1 m or above 100 m outgrows the memory of a machine."""
     floors_above: Annotated[int, Field(ge=0, le=3)] = 1
     floors_below: Annotated[int, Field(ge=0, le=3)] = 1
     """Storeys above and below whose APs the phone hears through the slabs. Each is

@@ -162,11 +162,11 @@ class PointSources:
                 takes a direction across the axis).
         """
         pos = np.asarray(position, dtype=float).reshape(-1, 3)
-        ax = np.asarray(axis, dtype=float).reshape(-1, 3)
-        ax = ax / np.linalg.norm(ax, axis=1, keepdims=True)
+        ax = _unit_rows(np.asarray(axis, dtype=float).reshape(-1, 3))
         n = len(pos)
         size = np.broadcast_to(np.asarray(size_m, dtype=float), (n, 2))
         u = np.broadcast_to(np.asarray(along, dtype=float), (n, 3)).copy()
+        u = _tame_rows(u)  # no overflow in the projection below
         u -= np.sum(u * ax, axis=1, keepdims=True) * ax
         length = np.linalg.norm(u, axis=1)
         # An ``along`` parallel to the axis: any direction across it.
@@ -887,3 +887,20 @@ def door_openings(scenario: Scenario, rooms: list[Polygon]) -> list[tuple[int, i
                 out.append((sides[0], sides[1], door.width * door.height))
             break
     return out
+
+
+_HUGE = 1e150  # a component whose square would overflow
+
+
+def _tame_rows(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Rows with a component beyond ±1e150 divided by their largest one (the same
+    direction, squares that do not overflow); every other row exactly as given."""
+    big = np.max(np.abs(v), axis=1, keepdims=True)
+    return np.where(big > _HUGE, v / np.where(big > _HUGE, big, 1.0), v)
+
+
+def _unit_rows(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Each row of ``v`` scaled to length 1; rows of components near 1e300 too (their
+    squares would overflow), so a direction given as (1e300, 0, 0) is +x."""
+    v = _tame_rows(v)
+    return v / np.linalg.norm(v, axis=1, keepdims=True)

@@ -21,7 +21,13 @@ from indoorsim.dataset.card import CARD_JSON
 from indoorsim.dataset.config import validate_config
 from indoorsim.dataset.driver import RUN_LOG, ShardFailures, build_dataset
 from indoorsim.dataset.schema import COLUMNS, arrow_schema
-from indoorsim.dataset.shard import _site, run_shard, sha256_file, simulate_walk
+from indoorsim.dataset.shard import (
+    _site,
+    run_shard,
+    sha256_file,
+    shard_is_complete,
+    simulate_walk,
+)
 from indoorsim.dataset.torch import WindowDataset, WindowStream, site_split
 
 # Three small sites (the 10 m room and two generated buildings), six 30 s walks,
@@ -253,6 +259,89 @@ def test_ctrl_c_is_one_line_and_the_run_resumes(tmp_path, reference, config_file
     log = json.loads((out / RUN_LOG).read_text())
     assert log["skipped"] == len(done_before) and log["computed"] == 6 - len(done_before)
     assert _files(out) == _files(reference)
+    assert not [p for p in out.rglob(".*")]
+
+
+# Loaded by every Python process of the run, like _CRASH_HOOK: from the named shard's
+# Parquet file on, the disk is full. The writer gets half of its first block down,
+# then ENOSPC, as a real full disk fails a write; every later write fails at once
+# (a marker file says the disk has filled). The atomic writer must clean up.
+_DISK_FULL_HOOK = """
+import os
+
+if os.environ.get("INDOORSIM_TEST_DISK_FULL_AT"):
+    import contextlib
+    import errno
+    from pathlib import Path
+
+    import indoorsim.dataset.shard as shard
+
+    _atomic_file = shard._atomic_file
+    full = Path(os.environ["INDOORSIM_TEST_DISK_FULL_MARK"])
+
+    class _FillingFile:
+        def __init__(self, fh):
+            self._fh = fh
+
+        def write(self, data):
+            if not full.exists():
+                full.touch()
+                self._fh.write(bytes(data)[: len(data) // 2])
+                self._fh.flush()
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+        def __getattr__(self, name):
+            return getattr(self._fh, name)
+
+    @contextlib.contextmanager
+    def _filling_atomic_file(path):
+        with _atomic_file(path) as fh:
+            at = path.name == os.environ["INDOORSIM_TEST_DISK_FULL_AT"] + ".parquet"
+            yield _FillingFile(fh) if at or full.exists() else fh
+
+    shard._atomic_file = _filling_atomic_file
+"""
+
+
+def test_a_full_disk_is_one_line_leaves_no_partial_file_and_the_run_resumes(
+    tmp_path, reference, config_file
+):
+    """ENOSPC while writing a known shard: one line naming the full disk and the resume
+    command, exit 1, no half-written file, the finished shards intact; the same command
+    then finishes the same bytes as an uninterrupted run."""
+    out = tmp_path / "data"
+    argv = [*_dataset_argv(config_file, 1), "--out", str(out)]
+    hook = tmp_path / "hook"
+    hook.mkdir()
+    (hook / "sitecustomize.py").write_text(_DISK_FULL_HOOK)
+    mark = tmp_path / "disk-is-full"
+    env = os.environ | {
+        "INDOORSIM_TEST_DISK_FULL_AT": "shard-00003",
+        "INDOORSIM_TEST_DISK_FULL_MARK": str(mark),
+        "PYTHONPATH": os.pathsep.join([str(hook), os.environ.get("PYTHONPATH", "")]),
+    }
+    command = [sys.executable, "-m", "indoorsim", *argv]
+    proc = subprocess.run(command, env=env, capture_output=True, text=True, timeout=300)
+    assert mark.exists()  # the hook did fill the disk
+    assert proc.returncode == 1, proc.stderr
+    done = {p.stem for p in (out / "shards").glob("*.json")}
+    assert "shard-00003" not in done and len(done) < 6
+    assert proc.stderr == (
+        f"indoorsim: disk full: no space left on the device to write shard-00003 in {out} "
+        f"(No space left on device); {len(done)} of 6 shards are complete and kept; free "
+        "some space and run the same command again to resume\n"
+    )
+    assert not [p for p in out.rglob(".*")]  # no half-written shard or sidecar
+    assert {p.stem for p in (out / "shards").glob("*.parquet")} == done
+    for name in done:
+        assert shard_is_complete(out, name) is not None  # intact: its checksum holds
+    assert not (out / CARD_JSON).exists()
+
+    assert main(argv) == 0
+    log = json.loads((out / RUN_LOG).read_text())
+    assert log["skipped"] == len(done) and log["computed"] == 6 - len(done)
+    assert _files(out) == _files(reference)
+    assert len(list((out / "shards").glob("*.parquet"))) == 6
     assert not [p for p in out.rglob(".*")]
 
 

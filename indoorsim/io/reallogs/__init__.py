@@ -26,10 +26,13 @@ Conventions shared by every reader:
 * A stream is present only when the log has rows for it. Streams are sorted by
   ``t`` (stably). What a reader drops is counted in ``meta["dropped_rows"]``.
 * Rows a reader cannot read (garbage: the wrong number of fields, a time or
-  number that does not parse) are skipped, counted by reason in
-  ``meta["malformed_rows"]``, and reported by a
+  number that does not parse, a reading that is NaN or infinite) are skipped,
+  counted by reason in ``meta["malformed_rows"]``, and reported by a
   :class:`~indoorsim.io.reallogs.common.MalformedRowsWarning` naming the file
   and the counts (the command line prints it as ``indoorsim: warning: ...``).
+* A log that cannot be read at all (no row left, a damaged zip or MATLAB file)
+  is a :class:`~indoorsim.io.recording.RecordingError` whose message starts
+  with the file or folder.
 * ``meta["mode"]`` is the carry mode in indoorsim's vocabulary when the log
   says it (``handheld``, ``pocketed``, ``dangling``, ``calling``), the log's own
   word for positions indoorsim does not model (e.g. ``Purse``), or None.

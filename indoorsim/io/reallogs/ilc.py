@@ -18,6 +18,8 @@ from indoorsim.io.reallogs.common import (
     WRONG_FIELD_COUNT,
     XYZ,
     PathLike,
+    build_recording,
+    finite_rows,
     median_rates_hz,
     quaternion_from_rotation_vector,
     report_malformed,
@@ -126,13 +128,13 @@ def read_ilc_trace(path: PathLike) -> Recording:
                 malformed[WRONG_FIELD_COUNT] += 1
                 continue
             try:
-                ms = int(fields[0])
+                ms = _int64(fields[0])
                 if kind in _ILC_XYZ:
                     values = [float(v) for v in fields[2:5]]
                     stream = _ILC_XYZ[kind]
                     columns[stream].append(values)
                 elif kind == "TYPE_WIFI":
-                    row = (fields[3], float(fields[4]), float(fields[5]), int(fields[6]))
+                    row = (fields[3], float(fields[4]), float(fields[5]), _int64(fields[6]))
                     stream = "wifi"
                     for key, value in zip(wifi, row, strict=True):
                         wifi[key].append(value)
@@ -180,6 +182,7 @@ def read_ilc_trace(path: PathLike) -> Recording:
         xy = np.asarray(waypoints, dtype=np.float64)
         streams["waypoints"] = time_frame(seconds("waypoints"), {"x": xy[:, 0], "y": xy[:, 1]})
 
+    streams = finite_rows(streams, malformed)
     meta = _ilc_header_meta(header, source)
     meta.update(
         {
@@ -199,7 +202,15 @@ def read_ilc_trace(path: PathLike) -> Recording:
             "dropped_rows": dict(sorted(dropped.items())),
         }
     )
-    return Recording(streams=streams, meta=meta)
+    return build_recording(source, streams, meta)
+
+
+def _int64(field: str) -> int:
+    """An integer field (a clock in ms); ValueError unless it fits in int64."""
+    value = int(field)
+    if not -(2**63) <= value < 2**63:
+        raise ValueError(f"{field} does not fit in int64")
+    return value
 
 
 def _ilc_header_meta(header: list[list[str]], source: Path) -> dict[str, Any]:
@@ -208,7 +219,7 @@ def _ilc_header_meta(header: list[list[str]], source: Path) -> dict[str, Any]:
     sensors: dict[str, dict[str, Any]] = {}
     for items in header:
         pairs = dict(item.split(":", 1) for item in items if ":" in item)
-        if "type" in pairs and pairs["type"].isdigit():
+        if "type" in pairs and pairs["type"].isascii() and pairs["type"].isdigit():
             android_type = int(pairs["type"])
             entry: dict[str, Any] = {"android_type": android_type}
             for key, name, convert in (

@@ -9,12 +9,22 @@ positioned path.
 
 from __future__ import annotations
 
+from collections import Counter
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
-from indoorsim.io.reallogs.common import XYZ, PathLike, median_rates_hz, time_frame
+from indoorsim.io.reallogs.common import (
+    XYZ,
+    PathLike,
+    build_recording,
+    finite_rows,
+    median_rates_hz,
+    report_malformed,
+    time_frame,
+)
 from indoorsim.io.recording import Recording, RecordingError
 
 _REQUIRED = ("t", "tm", "m", "dPos")
@@ -44,28 +54,39 @@ def read_mag_slam_walk(path: PathLike) -> Recording:
     source = Path(path)
     try:
         data = loadmat(source)
-    except (OSError, ValueError, NotImplementedError) as err:
-        raise RecordingError(f"{source}: not a readable MATLAB file ({err})") from err
+    except Exception as err:
+        # scipy's parser meets damaged bytes with whatever it trips on (MatReadError,
+        # OSError, TypeError, IndexError, zlib.error...): each means the file is not readable.
+        raise RecordingError(
+            f"{source}: not a readable MATLAB file ({type(err).__name__}: {err})"
+        ) from err
     missing = [name for name in _REQUIRED if name not in data]
     if missing:
         raise RecordingError(
             f"{source}: a magnetic-SLAM walk needs variables {list(_REQUIRED)}; missing {missing}"
         )
-    t = np.asarray(data["t"], dtype=float).ravel()
-    tm = np.asarray(data["tm"], dtype=float).ravel()
-    m = np.asarray(data["m"], dtype=float)
-    steps = np.asarray(data["dPos"], dtype=float)
+    t, tm, m, steps = (_numbers(data, name, source) for name in ("t", "tm", "m", "dPos"))
+    t, tm = t.ravel(), tm.ravel()
+    if not (len(t) and len(tm)):
+        raise RecordingError(f"{source}: t and tm must not be empty")
     if m.shape != (len(tm), 3) or steps.shape != (len(t) - 1, 3):
         raise RecordingError(
             f"{source}: expected m of shape ({len(tm)}, 3) and dPos of shape ({len(t) - 1}, 3), "
             f"got {m.shape} and {steps.shape}"
         )
+    for name, values in (("t", t), ("tm", tm)):
+        if not np.isfinite(values).all():
+            raise RecordingError(f"{source}: {name} holds NaN or infinite times")
     t0 = float(min(t[0], tm[0]))
-    position = np.vstack([np.zeros(3), np.cumsum(steps, axis=0)])
-    streams = {
-        "mag": time_frame(tm - t0, dict(zip(XYZ, m.T, strict=True))),
-        "waypoints": time_frame(t - t0, {"x": position[:, 0], "y": position[:, 1]}),
-    }
+    # Garbage values overflow to inf: readings are then dropped below, times refused.
+    with np.errstate(over="ignore", invalid="ignore"):
+        position = np.vstack([np.zeros(3), np.cumsum(steps, axis=0)])
+        streams = {
+            "mag": time_frame(tm - t0, dict(zip(XYZ, m.T, strict=True))),
+            "waypoints": time_frame(t - t0, {"x": position[:, 0], "y": position[:, 1]}),
+        }
+    malformed: Counter[str] = Counter()
+    streams = finite_rows(streams, malformed)
     meta: dict[str, Any] = {
         "source": {"format": "mag-slam-1d", "file": source.name},
         "device": "iPad (ARKit)",
@@ -74,9 +95,19 @@ def read_mag_slam_walk(path: PathLike) -> Recording:
         "frames": {"phone": "the iPad's magnetometer frame, as logged"},
         "rates_hz": median_rates_hz(streams),
         "dropped_rows": {},
-        "malformed_rows": {},  # a MATLAB file has no rows to misread
+        "malformed_rows": report_malformed(source, malformed),
     }
-    return Recording(streams=streams, meta=meta)
+    return build_recording(source, streams, meta)
+
+
+def _numbers(data: dict[str, Any], name: str, source: Path) -> NDArray[np.float64]:
+    """The MATLAB variable ``name`` as a float array, or a RecordingError saying it is not one."""
+    value = np.asarray(data[name])
+    if value.dtype.kind not in "iuf":  # a struct, a cell, text, complex numbers
+        raise RecordingError(
+            f"{source}: variable {name!r} is not an array of real numbers ({value.dtype})"
+        )
+    return value.astype(np.float64)
 
 
 def looks_like_mag_slam_walk(path: Path) -> bool:

@@ -12,9 +12,12 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from indoorsim.io.reallogs.common import (
+    NOT_FINITE,
     XYZ,
     PathLike,
+    build_recording,
     carry_mode,
+    finite_rows,
     median_rates_hz,
     read_csv_columns,
     report_malformed,
@@ -95,6 +98,7 @@ def read_oxford_folder(path: PathLike) -> Recording:
         step_channel.append(np.full(len(rises), channel, dtype=np.int64))
         per_channel.append(len(rises))
     streams["steps"] = _step_rows(np.concatenate(step_t), {"channel": np.concatenate(step_channel)})
+    streams = finite_rows(streams, malformed, {"accel": "accelerometer.csv"})
 
     meta: dict[str, Any] = {"source": {"format": "oxford-stepcounter", "folder": folder.name}}
     parts = folder.name.split("_")
@@ -112,7 +116,7 @@ def read_oxford_folder(path: PathLike) -> Recording:
         meta |= {"device": None, "mode": None}
     sensor_file = folder / "metadata.txt"
     if sensor_file.is_file():
-        for line in sensor_file.read_text(encoding="utf-8").splitlines():
+        for line in _text(sensor_file).splitlines():
             key, _, value = line.partition(":")
             if key.strip() == "accelerometer" and value.strip():
                 meta["sensors"] = {"accel": {"name": value.strip()}}
@@ -125,7 +129,7 @@ def read_oxford_folder(path: PathLike) -> Recording:
         "dropped_rows": {},
         "malformed_rows": report_malformed(folder, malformed),
     }
-    return Recording(streams=streams, meta=meta)
+    return build_recording(folder, streams, meta)
 
 
 def _text(path: Path) -> str:
@@ -136,6 +140,9 @@ def _text(path: Path) -> str:
 def looks_like_oxford_folder(path: Path) -> bool:
     return (path / "accelerometer.csv").is_file() and (path / "stepcounter.csv").is_file()
 
+
+_COUNT_OUT_OF_RANGE = "with a step count beyond 2**53"
+_MAX_STEPS_PER_ROW = 1000
 
 _VALIDATION_NAME = re.compile(r"^(?P<user>[^_]+)_(?P<position>[^_]+)_(?P<start_ms>\d+)$")
 
@@ -166,7 +173,8 @@ def read_oxford_validation(path: PathLike) -> Recording:
     ``meta["malformed_rows"]``, with a warning (see :mod:`indoorsim.io.reallogs`).
 
     Raises:
-        RecordingError: the ground-truth count decreases, or the file has no readable row.
+        RecordingError: the ground-truth count decreases or jumps by more than 1000 steps at
+            one row, or the file has no readable row.
     """
     source = Path(path)
     malformed: Counter[str] = Counter()
@@ -177,16 +185,23 @@ def read_oxford_validation(path: PathLike) -> Recording:
         header=False,
         malformed=malformed,
     )
-    if table.empty:
-        raise RecordingError(f"{source}: no rows of 7 comma-separated numbers")
     data = table[list(columns)].to_numpy(dtype=np.float64)
+    ns = table["ns"].to_numpy(dtype=np.int64)
+    good = np.isfinite(data).all(axis=1)
+    malformed[NOT_FINITE] += int((~good).sum())
+    # Step counts are whole numbers, cast to int64 below: exact only within 2**53.
+    counts = np.abs(np.where(good[:, None], data[:, 4:], 0.0)) <= 2.0**53
+    malformed[_COUNT_OUT_OF_RANGE] += int((good & ~counts.all(axis=1)).sum())
+    keep = good & counts.all(axis=1)
+    data, ns = data[keep], ns[keep]
+    if len(data) == 0:
+        raise RecordingError(f"{source}: no rows of 7 comma-separated numbers")
     placeholder = np.all(data[:, 1:4] == 0.0, axis=1)
     leading = int(np.argmin(placeholder)) if not placeholder.all() else len(data)
     data = data[leading:]
     if len(data) == 0:
         raise RecordingError(f"{source}: every accelerometer row is zero")
-    # Timestamps (~1e12 ns since boot) are exact in float64, well below 2**53.
-    ticks = data[:, 0].astype(np.int64)
+    ticks = ns[leading:]
     t0 = int(ticks.min())
     t = ticks_to_seconds(ticks, t0, 1e9)
     truth_count = data[:, 5].astype(np.int64)
@@ -194,6 +209,12 @@ def read_oxford_validation(path: PathLike) -> Recording:
     if (increments < 0).any():
         row = int(np.argmax(increments < 0)) + leading
         raise RecordingError(f"{source}: ground-truth step count decreases at row {row}")
+    if (increments > _MAX_STEPS_PER_ROW).any():
+        row = int(np.argmax(increments > _MAX_STEPS_PER_ROW)) + leading
+        raise RecordingError(
+            f"{source}: ground-truth step count jumps by {int(increments.max())} at row {row} "
+            f"(more than {_MAX_STEPS_PER_ROW} steps between two samples is no walk)"
+        )
     streams = {
         "accel": time_frame(t, {"x": data[:, 1], "y": data[:, 2], "z": data[:, 3]}),
         "steps": _step_rows(np.repeat(t, increments)),
@@ -222,7 +243,7 @@ def read_oxford_validation(path: PathLike) -> Recording:
         "dropped_rows": {"zero_accel_placeholder": leading} if leading else {},
         "malformed_rows": report_malformed(source, malformed),
     }
-    return Recording(streams=streams, meta=meta)
+    return build_recording(source, streams, meta)
 
 
 def looks_like_oxford_validation(path: Path) -> bool:

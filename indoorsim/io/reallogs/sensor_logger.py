@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import zipfile
+import zlib
 from collections import Counter
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -18,6 +19,8 @@ from numpy.typing import NDArray
 from indoorsim.io.reallogs.common import (
     XYZ,
     PathLike,
+    build_recording,
+    finite_rows,
     median_rates_hz,
     read_csv_columns,
     report_malformed,
@@ -37,6 +40,11 @@ _SENSOR_LOGGER_FILES: dict[str, tuple[str, dict[str, str]]] = {
     "light": ("light", {"lux": "lux"}),
     "wifi": ("wifi", {"bssid": "bssid", "rss": "level", "freq_mhz": "frequency"}),
 }
+# What a damaged zip raises, from opening it to reading a member's last byte
+# (RuntimeError: a member flagged encrypted; NotImplementedError, one of them: an
+# unknown compression).
+_ZIP_ERRORS = (zipfile.BadZipFile, zlib.error, EOFError, RuntimeError)
+
 _SENSOR_LOGGER_MOTION = ("accel", "linear_accel", "gravity", "gyro", "mag", "rotation")
 _SENSOR_LOGGER_TEXT = frozenset({"bssid"})
 # Metadata.csv columns kept (→ meta key); "device id" is left out on purpose.
@@ -112,27 +120,42 @@ def read_sensor_logger(path: PathLike, *, mode: str | None = None) -> Recording:
     """
     source = Path(path)
     malformed: Counter[str] = Counter()
-    with _csv_members(source) as members:
-        frames: dict[str, pd.DataFrame] = {}
-        dropped_files = []
-        metadata: dict[str, str] = {}
-        for stem, opener in sorted(members.items()):
-            if stem == "metadata":
-                with opener() as handle, io.TextIOWrapper(handle, encoding="utf-8-sig") as text:
-                    rows = list(csv.DictReader(text))
-                metadata = rows[0] if rows else {}
-            elif stem in _SENSOR_LOGGER_FILES:
-                _, mapping = _SENSOR_LOGGER_FILES[stem]
-                numbers: dict[str, type] = {"time": int}
-                numbers |= {c: float for k, c in mapping.items() if k not in _SENSOR_LOGGER_TEXT}
-                with opener() as handle:
-                    # Bytes that are not UTF-8 become U+FFFD, and their row a malformed row.
-                    text = handle.read().decode("utf-8-sig", errors="replace")
-                frames[stem] = read_csv_columns(
-                    text, numbers, header=True, malformed=malformed, file=f"{stem}.csv"
-                )
-            else:
-                dropped_files.append(stem)
+    frames: dict[str, pd.DataFrame] = {}
+    dropped_files: list[str] = []
+    metadata: dict[str, str] = {}
+    try:
+        with _csv_members(source) as members:
+            for stem, opener in sorted(members.items()):
+                if stem == "metadata":
+                    with (
+                        opener() as handle,
+                        io.TextIOWrapper(handle, encoding="utf-8-sig", errors="replace") as text,
+                    ):
+                        try:
+                            rows = list(csv.DictReader(text))
+                        except csv.Error as err:
+                            raise RecordingError(
+                                f"{source}: {stem}.csv is not readable as CSV ({err})"
+                            ) from err
+                    metadata = rows[0] if rows else {}
+                elif stem in _SENSOR_LOGGER_FILES:
+                    _, mapping = _SENSOR_LOGGER_FILES[stem]
+                    numbers: dict[str, type] = {"time": int}
+                    numbers |= {
+                        c: float for k, c in mapping.items() if k not in _SENSOR_LOGGER_TEXT
+                    }
+                    with opener() as handle:
+                        # Bytes that are not UTF-8 become U+FFFD, and their row a malformed row.
+                        text = handle.read().decode("utf-8-sig", errors="replace")
+                    frames[stem] = read_csv_columns(
+                        text, numbers, header=True, malformed=malformed, file=f"{stem}.csv"
+                    )
+                else:
+                    dropped_files.append(stem)
+    except _ZIP_ERRORS as err:
+        raise RecordingError(
+            f"{source}: not a readable zip archive ({type(err).__name__}: {err})"
+        ) from err
     if not frames:
         raise RecordingError(
             f"{source}: no Sensor Logger sensor file "
@@ -187,6 +210,8 @@ def read_sensor_logger(path: PathLike, *, mode: str | None = None) -> Recording:
         stream: time_frame(ticks_to_seconds(ticks, t0, 1e9), columns)
         for stream, (ticks, columns) in sorted(raw.items())
     }
+    files = {_SENSOR_LOGGER_FILES[stem][0]: f"{stem}.csv" for stem in frames}
+    streams = finite_rows(streams, malformed, files)
     meta |= {
         "mode": mode,
         "t0_unix_ns": t0,
@@ -200,7 +225,7 @@ def read_sensor_logger(path: PathLike, *, mode: str | None = None) -> Recording:
         "dropped_rows": dropped_rows,
         "malformed_rows": report_malformed(source, malformed),
     }
-    return Recording(streams=streams, meta=meta)
+    return build_recording(source, streams, meta)
 
 
 @contextmanager
@@ -254,6 +279,6 @@ def looks_like_sensor_logger(path: Path) -> bool:
                     with members[stem]() as handle:
                         head = handle.readline().decode("utf-8", errors="replace")
                     return head.startswith("time,seconds_elapsed")
-    except (OSError, zipfile.BadZipFile, RecordingError):
+    except (OSError, RecordingError, *_ZIP_ERRORS):
         return False
     return False
