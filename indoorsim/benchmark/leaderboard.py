@@ -134,6 +134,8 @@ BASELINES = ("start-only", "pdr-basic", "wknn-mag")
 HAN2023 = ("han2023-pdr", "han2023-gm", "han2023-gml", "han2023-fusion")
 CHEN2022 = ("dr-wifi", "dr-mm", "pf", "chen2022-cpf", "edtw-rekf", "apf", "wimag")
 LEARNED = ("learned-io",)
+HAN2023_TABLE2 = ("bp", "aso-bp", "tent-aso-bp")
+"""Han2023's layer-1 training variants (Table 2): robustness board only, not scenario boards."""
 PIPELINES = HAN2023 + CHEN2022 + LEARNED
 MODES = ("handheld", "calling", "dangling", "pocketed")
 SCENARIOS = ("han2023_basement", "han2023_corridor", "chen2022_lab", "chen2022_office")
@@ -159,6 +161,8 @@ class BoardConfig:
     """Also write ``realism.md``: simulated motion, field, WiFi and light beside real ones."""
     robustness: bool = True
     """Also write ``robustness.md``: every estimator under every sensor fault."""
+    robustness_estimators: tuple[str, ...] | None = BASELINES + PIPELINES + HAN2023_TABLE2
+    """The robustness board's estimators (every shipped one); None: :attr:`estimators`."""
 
     @classmethod
     def quick(cls, scenarios: Sequence[str] | None = None) -> BoardConfig:
@@ -252,7 +256,7 @@ def write_robustness_board(
 ) -> pd.DataFrame:
     """``robustness.md``, ``.csv`` and ``.png`` for the board's estimators, device and window."""
     robust = RobustnessConfig(
-        estimators=config.estimators,
+        estimators=config.robustness_estimators or config.estimators,
         device=config.device,
         survey_device=config.survey_device,
         window_s=config.window_s,

@@ -399,7 +399,9 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
         )
     )
     if args.estimator:
-        config = dataclasses.replace(config, estimators=tuple(args.estimator))
+        config = dataclasses.replace(
+            config, estimators=tuple(args.estimator), robustness_estimators=None
+        )
     if args.robustness_only:
         from indoorsim.benchmark.results_site import write_site
 
