@@ -513,6 +513,7 @@ def evaluate(
     route = route or next(iter(site.scenario.routes))
     route_spec(site, route)
     schedule = ModeSchedule.of(mode)
+    walk_mode, walk_device = walk_arguments(faults, schedule, device)  # its errors first
     ctx = site_context(site, device=device, survey_device=survey_device, window_s=window_s)
     est = _make(estimator, **(params or {}))
     train = training_walks(
@@ -532,7 +533,6 @@ def evaluate(
     }
     if faults:
         config["faults"] = "; ".join(f.spec() for f in faults)
-    walk_mode, walk_device = walk_arguments(faults, schedule, device)
     ev = Evaluation(estimator=estimator, scenario=site.name, mode=mode, config=config)
     try:
         train_s = _fit(est, ctx, train)

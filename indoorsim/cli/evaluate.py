@@ -162,7 +162,13 @@ def _run_evaluate(args: argparse.Namespace) -> int:
 
     from indoorsim.benchmark import evaluation, leaderboard
     from indoorsim.io.atomic import write_folder
-    from indoorsim.io.faults import FaultError, WalkFault, apply_faults, parse_fault
+    from indoorsim.io.faults import (
+        FaultError,
+        WalkFault,
+        apply_faults,
+        parse_fault,
+        walk_arguments,
+    )
     from indoorsim.io.recording import MissingStreamError, Recording, RecordingError
 
     check_out(args.out, overwrite=args.overwrite, what="evaluation")
@@ -225,6 +231,10 @@ def _run_evaluate(args: argparse.Namespace) -> int:
         mode_schedule(args.mode, one_mode=True)
         device_profile(args.device)
         device_profile(args.survey_device)
+        try:
+            walk_arguments(faults, args.mode, args.device)  # a walk fault that changes nothing
+        except FaultError as err:
+            raise CliError(f"--fault: {err}") from None
         route = route_or_first(site, args.route)  # last: it says which route when defaulting
         from tqdm import tqdm
 

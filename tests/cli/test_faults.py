@@ -37,3 +37,27 @@ def test_a_bad_fault_spec_is_one_line_before_any_work(tmp_path, capsys):
     assert not (tmp_path / "x").exists()
     assert main([*ARGS, "--fault", "wobble", "--out", str(tmp_path / "y")]) == 2
     assert "unknown fault 'wobble'; known faults: dropout" in capsys.readouterr().err
+
+
+def test_a_walk_fault_that_changes_nothing_is_one_line(tmp_path, capsys):
+    args = [*ARGS, "--fault", "mode_change:t0=5,mode=handheld", "--out", str(tmp_path / "m")]
+    assert main(args) == 2
+    assert capsys.readouterr().err.strip() == (
+        "indoorsim: --fault: fault mode_change: mode = 'handheld' is the mode already carried "
+        "at t0 = 5 s: no change"
+    )
+    assert not (tmp_path / "m").exists()
+
+
+def test_a_walk_fault_on_a_recording_is_refused(tmp_path, capsys):
+    rec = tmp_path / "walk"
+    args = ["simulate", "minimal_room", "--mode", "handheld", "--device", "ideal", "--seed", "0"]
+    assert main([*args, "--out", str(rec)]) == 0
+    capsys.readouterr()
+    args = ["evaluate", "--estimator", "pdr-basic", "--recording", str(rec)]
+    args += ["--fault", "wrong_device:device=honor_50", "--out", str(tmp_path / "e")]
+    assert main(args) == 2
+    assert capsys.readouterr().err.strip() == (
+        "indoorsim: --fault wrong_device: changes how a walk is simulated, which a "
+        "--recording already is; use it with --scenario"
+    )
