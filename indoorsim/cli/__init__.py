@@ -50,6 +50,7 @@ printed as ``indoorsim: warning: <message>``.
 from __future__ import annotations
 
 import argparse
+import errno
 import sys
 import traceback
 import warnings
@@ -129,6 +130,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         _report(err, debug=args.debug)
         return 2
     except OSError as err:
+        if err.errno in (errno.ENOSPC, errno.EDQUOT):
+            where = f" to write {err.filename}" if err.filename else ""
+            message = (
+                f"disk full: no space left on the device{where} ({err.strerror}); free some "
+                "space and run the same command again"
+            )
+            _report(err, debug=args.debug, message=message)
+            return 1
         _report(err, debug=args.debug)
         return 1
     except KeyboardInterrupt as err:
@@ -137,11 +146,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
 
 
-def _report(err: BaseException, *, debug: bool) -> None:
-    """``indoorsim: <message>`` on stderr; with ``--debug``, the traceback above it."""
+def _report(err: BaseException, *, debug: bool, message: str | None = None) -> None:
+    """``indoorsim: <message>`` (default ``str(err)``) on stderr; with ``--debug``, the
+    traceback above it."""
     if debug:
         traceback.print_exception(err, file=sys.stderr)
-    print(f"indoorsim: {err}", file=sys.stderr)
+    print(f"indoorsim: {err if message is None else message}", file=sys.stderr)
 
 
 def _one_line_warnings(show: Callable[..., None]) -> Callable[..., None]:

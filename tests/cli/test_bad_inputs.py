@@ -265,3 +265,23 @@ def test_garbage_rows_in_a_real_trace_are_counted_on_one_warning_line(tmp_path, 
         f"indoorsim: warning: {trace}: skipped 3 malformed rows (1 with a field that is not a "
         "number, 2 without a row type)"
     ]
+
+
+def test_a_full_disk_is_one_line_saying_so(tmp_path, monkeypatch, capsys):
+    import errno
+
+    import pandas as pd
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device", str(tmp_path / "e" / "summary.csv"))
+
+    monkeypatch.setattr(pd.DataFrame, "to_csv", full)
+    args = ["evaluate", "--estimator", "start-only", "--scenario", "minimal_room", "--seeds", "1"]
+    assert main([*args, "--device", "ideal", "--out", str(tmp_path / "e")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1] == (
+        f"indoorsim: disk full: no space left on the device to write {tmp_path}/e/summary.csv "
+        "(No space left on device); free some space and run the same command again"
+    )
+    assert "Traceback" not in "\n".join(err)
+    assert not (tmp_path / "e").exists()  # nothing half-written
