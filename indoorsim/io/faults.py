@@ -52,6 +52,7 @@ import pandas as pd
 
 from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import get_device
+from indoorsim.util import quaternion
 from indoorsim.walker.schedule import ModeSchedule, ScheduleEntry, ScheduleLike
 
 __all__ = [
@@ -464,12 +465,15 @@ class MagneticDisturbance(Fault):
     name: ClassVar[str] = "magnetic_disturbance"
     doc: ClassVar[str] = (
         "a transient field bump of amplitude µT, Gaussian in time (centre t0, width sigma s), "
-        "along direction (phone frame; random when not given): a passing trolley or a lift"
+        "along direction (random when not given) in frame 'world' (east, north, up: a lift "
+        "or a passing trolley, fixed in the building while the phone turns; the phone's "
+        "own rotation vector takes it into the phone frame) or 'phone'"
     )
     t0: float
     amplitude: float = 50.0
     sigma: float = 1.0
     direction: tuple[float, ...] | None = None
+    frame: str = "world"
 
     def __post_init__(self) -> None:
         if not math.isfinite(self.t0):
@@ -482,9 +486,11 @@ class MagneticDisturbance(Fault):
             self._check_vector("direction", self.direction)
             if not any(self.direction):
                 raise self._fail("direction", "must not be the zero vector")
+        if self.frame not in ("world", "phone"):
+            raise self._fail("frame", f"= {self.frame!r}: must be 'world' or 'phone'")
 
     def _targets(self) -> tuple[str, ...]:
-        return ("mag",)
+        return ("mag", "rotation") if self.frame == "world" else ("mag",)
 
     def _transform(self, streams: Streams, rng: np.random.Generator) -> None:
         d = np.asarray(self.direction) if self.direction is not None else rng.normal(size=3)
@@ -492,6 +498,13 @@ class MagneticDisturbance(Fault):
         df = streams["mag"]
         t = df.index.to_numpy()
         bump = self.amplitude * np.exp(-0.5 * ((t - self.t0) / self.sigma) ** 2)
+        if self.frame == "world":
+            # The rotation vector is world ← phone: its inverse takes the building's
+            # vector into the phone frame, held from the latest fused sample.
+            rot = streams["rotation"]
+            k = np.searchsorted(rot.index.to_numpy(), t, side="right") - 1
+            q = rot[["qw", "qx", "qy", "qz"]].to_numpy(dtype=float)[np.clip(k, 0, len(rot) - 1)]
+            d = quaternion.rotate(q, np.broadcast_to(d, (len(t), 3)), inverse=True)
         df[_XYZ] = df[_XYZ].to_numpy() + bump[:, None] * d
 
 

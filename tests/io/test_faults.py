@@ -166,14 +166,35 @@ def test_lights_off():
 
 def test_magnetic_disturbance_and_case_magnet():
     rec = _recording()
-    out = _apply("magnetic_disturbance:t0=5,amplitude=40,sigma=1,direction=0/0/2", rec)
+    out = _apply("magnetic_disturbance:t0=5,amplitude=40,sigma=1,direction=0/0/2,frame=phone", rec)
     bump = 40 * np.exp(-0.5 * (T - 5) ** 2)
     np.testing.assert_allclose(out.mag["z"] - rec.mag["z"], bump)
     np.testing.assert_array_equal(out.mag["x"], rec.mag["x"])
-    random_dir = _apply("magnetic_disturbance:t0=5,amplitude=40", rec).mag - rec.mag
+    random_dir = _apply("magnetic_disturbance:t0=5,amplitude=40,frame=phone", rec).mag - rec.mag
     np.testing.assert_allclose(np.linalg.norm(random_dir.loc[5.0]), 40)
     out = _apply("case_magnet:offset=30/-20/5", rec)
     np.testing.assert_allclose(out.mag.to_numpy() - rec.mag.to_numpy(), [[30, -20, 5]] * len(T))
+
+
+def test_a_world_frame_disturbance_stays_fixed_in_the_building_while_the_phone_turns():
+    # The phone turns about its z axis at 0.5 rad/s: world <- phone is a yaw of 0.5 t.
+    yaw = 0.5 * T
+    rotation = pd.DataFrame(
+        {"qw": np.cos(yaw / 2), "qx": 0.0, "qy": 0.0, "qz": np.sin(yaw / 2)},
+        index=pd.Index(T, name="t"),
+    )
+    rec = Recording(streams={**_recording().streams, "rotation": rotation}, meta={})
+    out = _apply("magnetic_disturbance:t0=5,amplitude=40,sigma=1,direction=1/0/0", rec)
+    added = (out.mag - rec.mag)[["x", "y", "z"]].to_numpy()
+    bump = 40 * np.exp(-0.5 * (T - 5) ** 2)
+    # In the phone frame east turns backwards: (cos yaw, -sin yaw, 0).
+    np.testing.assert_allclose(
+        added, bump[:, None] * np.c_[np.cos(yaw), -np.sin(yaw), 0 * T], atol=1e-12
+    )
+    with pytest.raises(FaultError, match="the recording has no 'rotation' stream"):
+        _apply("magnetic_disturbance:t0=5", _recording())
+    with pytest.raises(FaultError, match="frame = 'lift': must be 'world' or 'phone'"):
+        parse_fault("magnetic_disturbance:t0=5,frame=lift")
 
 
 def test_composition_is_in_order_and_recorded():
@@ -203,7 +224,7 @@ def test_every_fault_round_trips_its_spec_and_leaves_the_input_alone():
         "wifi_outage": "wifi_outage:t0=0,t1=1",
         "scan_throttle": "scan_throttle:period=30",
         "lights_off": "lights_off:t0=0,t1=100,lux=0.5",
-        "magnetic_disturbance": "magnetic_disturbance:t0=2",
+        "magnetic_disturbance": "magnetic_disturbance:t0=2,frame=phone",
         "case_magnet": "case_magnet:offset=10/0/0",
         "mode_change": "mode_change:t0=5,mode=pocketed",
         "wrong_device": "wrong_device:device=honor_50",
