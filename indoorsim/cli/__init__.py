@@ -130,7 +130,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         _report(err, debug=args.debug)
         return 2
     except OSError as err:
-        if err.errno in (errno.ENOSPC, errno.EDQUOT):
+        # A bare OSError's '[Errno 28] ...' said in words; errors with their own message
+        # (a data set's disk full, naming the shard and how to resume) stay as they are.
+        if err.errno in (errno.ENOSPC, errno.EDQUOT) and type(err).__str__ is OSError.__str__:
             where = f" to write {err.filename}" if err.filename else ""
             message = (
                 f"disk full: no space left on the device{where} ({err.strerror}); free some "
