@@ -14,7 +14,8 @@ phone in one or more carrying modes (DESIGN §5, numbers from REALISM §6.1):
 * ``dangling`` — in the swinging hand: the arm is a pendulum about the
   shoulder, simulated with pymunk, driven at stride frequency (±15–25°) and
   shaken by the shoulder's own acceleration; the forearm follows through at
-  the elbow, turning and arcing with its swing.
+  the elbow (damped, lagging the shoulder), turning and arcing with its swing;
+  the hand turns at the wrist in two planes, shaken by all the wrist's motion.
 * ``pocketed`` — in a front trouser pocket (either side): long axis along the
   thigh, which turns at the hip in three planes over the gait cycle (flexion
   after the normal-gait hip curve, ab-/adduction and rotation with drawn lags),
@@ -615,7 +616,13 @@ class Dangling(CarryMode):
     (:func:`~.limbs.oscillator`): the upper arm's swing whips it on (the linearised
     double pendulum), so the hand swings further and faster than the shoulder,
     and it pronates as the arm swings back and supinates forward. The hand
-    hangs from the wrist in the same way, whipped on by the forearm. The phone
+    hangs from the wrist in the same way, in two planes: in the swing's it is
+    whipped on by the forearm, and in both it is shaken by what the arm passes
+    down from the shoulder (the trunk's bounce, sway and heel-strike jolts) and
+    by the arm's sideways arc. Those turns about axes through the wrist, a
+    hand's length from the phone, turn the phone about its small axes at the
+    rates real swinging phones show (≈ 2.0 and 1.8 rad/s RMS) with little
+    linear acceleration. The phone
     lies diagonally across the palm, its top forward and down and its screen
     outward, the palm turned a little back.
     """
@@ -644,14 +651,21 @@ class Dangling(CarryMode):
     """Shoulder muscle stiffness, raising the arm's natural frequency to ≈ 0.8 Hz [E]."""
     physics_rate_hz: float = 30.0
     """Step rate of the pymunk pendulum (upsampled with a C² spline)."""
-    elbow_natural_hz: tuple[float, float] = (1.35, 1.9)
+    elbow_natural_hz: tuple[float, float] = (1.3, 1.8)
     """Range of the hanging forearm's natural frequency about the elbow (its
-    gravity pendulum, ≈ 1 Hz, stiffened by muscle tone), drawn per use: over
-    this range the elbow flexes and extends 19–41° peak to peak per stride with
-    the swing, the spread measured in normal gait (29.7 ± 10.2°, Kang et al.,
-    Clin Shoulder Elb 26:126, 2023); below it the follow-through resonates [E]."""
-    elbow_damping: tuple[float, float] = (0.2, 0.4)
-    """Range of the elbow's damping ratio, drawn per use [E]."""
+    gravity pendulum, ≈ 1 Hz, stiffened by muscle tone), drawn per use: with
+    ``elbow_damping`` the elbow flexes and extends 21–49° peak to peak per stride
+    at a ±20° swing (≈ 30° in the middle of both ranges), the spread measured in
+    normal gait (29.7 ± 10.2°, Kang et al., Clin Shoulder Elb 26:126, 2023) [E]."""
+    elbow_damping: tuple[float, float] = (0.4, 0.55)
+    """Range of the elbow's damping ratio, drawn per use [E]. The elbow's
+    flexors and extensors co-contract to steady the forearm, so it is damped
+    well below its own ringing: its flexion lags the shoulder's swing by 28–56°
+    of the stride (a quarter to a sixth of it), and the step-rate jolts that
+    reach it through the shoulder are passed on, not amplified (gain 0.6–1.25 at
+    twice the stride rate; a lightly damped elbow, 0.2–0.4, rings at the step
+    rate and, beating with the swing, puts too much of ‖a‖'s power at the
+    stride rate and too little at the step rate: leaderboards/realism.md)."""
     twist_deg: tuple[float, float] = (5.5, 8.5)
     """Range of the forearm's pronation–supination amplitude with the swing, drawn
     per use: 11–17° peak to peak (14.2 ± 3.2° measured in normal gait, Kang et
@@ -662,9 +676,12 @@ class Dangling(CarryMode):
 
     wrist_natural_hz: tuple[float, float] = (2.5, 3.5)
     """Range of the hand's natural frequency about the wrist (a short, light
-    pendulum held by the wrist's flexors and extensors), drawn per use [E]."""
+    pendulum held by the wrist's muscles), drawn per use for each of its two
+    planes: flexion–extension in the swing's plane and the sideways turn in the
+    frontal plane (with the palm toward the thigh, flexion–extension again; with
+    it turned back, radial–ulnar deviation) [E]."""
     wrist_damping: tuple[float, float] = (0.2, 0.4)
-    """Range of the wrist's damping ratio, drawn per use [E]."""
+    """Range of the wrist's damping ratio, drawn per use for each plane [E]."""
 
     _UPPER_ARM: ClassVar[float] = 0.186  # shoulder to elbow, of body height (Drillis & Contini)
     _HAND_COM: ClassVar[float] = 0.05  # wrist to the centre of hand and phone, of body height
@@ -693,18 +710,6 @@ class Dangling(CarryMode):
             body.rate_hz,
         )
         arm = theta + flex
-        # The hand (with the phone) about the wrist: the forearm's angular
-        # acceleration drives it the same way, the grip's centre of mass a
-        # short lever beyond the wrist.
-        grip_lever = self._HAND_COM * h
-        wrist = limbs.oscillator(
-            -(1.0 + (forearm - grip_lever) / grip_lever)
-            * np.gradient(np.gradient(arm, body.t), body.t),
-            rng.uniform(*self.wrist_natural_hz),
-            rng.uniform(*self.wrist_damping),
-            body.rate_hz,
-        )
-        hand = arm + wrist
 
         def _down(angle: NDArray[np.float64]) -> NDArray[np.float64]:
             return np.column_stack([np.sin(angle), np.zeros_like(angle), -np.cos(angle)])
@@ -713,9 +718,43 @@ class Dangling(CarryMode):
         # keep in step: −1 back … +1 forward at a full swing.
         phase = arm / max(float(np.percentile(np.abs(arm), 98)), 1e-9)
         twist = math.radians(rng.uniform(*self.twist_deg)) * phase
-        arc = limbs.about("x", side * math.radians(rng.uniform(*self.arc_deg)) * phase)
-        limb = upper * _down(theta) + (forearm - grip_lever) * _down(arm) + grip_lever * _down(hand)
-        pos = shoulder + limbs.apply(frame, limbs.apply(arc, limb))
+        lean = side * math.radians(rng.uniform(*self.arc_deg)) * phase  # toward +y (left)
+        arc = limbs.about("x", lean)
+        grip_lever = self._HAND_COM * h
+        to_wrist = upper * _down(theta) + (forearm - grip_lever) * _down(arm)
+        arm_frame = limbs.compose(frame, arc)
+        # The hand (with the phone) hangs from the wrist, a short pendulum held by
+        # the wrist's muscles in two planes: flexion in the swing's plane and
+        # sideways in the frontal one. What moves the wrist drives it: the
+        # forearm's own swing and arc, and everything the arm passes down from the
+        # shoulder (the trunk's bounce, sway and heel-strike jolts), as the
+        # wrist's acceleration across the hand on the lever of the hand's centre
+        # of mass: θ̈_hand = −(arm's angular acceleration) − a⊥ / lever (gravity's
+        # pull is in the wrist's natural frequency, as the elbow's).
+        wrist_acc = limbs.acceleration(shoulder + limbs.apply(arm_frame, to_wrist), body.t)
+        ahead = limbs.apply(
+            arm_frame, np.column_stack([np.cos(arm), np.zeros_like(arm), np.sin(arm)])
+        )
+        beside = limbs.apply(arm_frame, [0.0, 1.0, 0.0])
+        wrist_hz, wrist_zeta = self.wrist_natural_hz, self.wrist_damping
+        flexion = limbs.oscillator(
+            -np.gradient(np.gradient(arm, body.t), body.t)
+            - np.einsum("ij,ij->i", wrist_acc, ahead) / grip_lever,
+            rng.uniform(*wrist_hz),
+            rng.uniform(*wrist_zeta),
+            body.rate_hz,
+        )
+        deviation = limbs.oscillator(
+            -np.gradient(np.gradient(lean, body.t), body.t)
+            - np.einsum("ij,ij->i", wrist_acc, beside) / grip_lever,
+            rng.uniform(*wrist_hz),
+            rng.uniform(*wrist_zeta),
+            body.rate_hz,
+        )
+        hand = arm + flexion
+        hand_turn = limbs.compose(limbs.about("y", -hand), limbs.about("x", deviation))
+        limb = to_wrist + limbs.apply(hand_turn, [0.0, 0.0, -grip_lever])
+        pos = shoulder + limbs.apply(arm_frame, limb)
         # At the bottom of the swing: x down (right hand) or up (left), y
         # forward, z outward.
         base = limbs.from_axes([0.0, 0.0, side], [1.0, 0.0, 0.0], [0.0, side, 0.0])
@@ -725,9 +764,7 @@ class Dangling(CarryMode):
             limbs.about("z", side * math.radians(rng.uniform(*self.diagonal_deg))),
             limbs.from_rotvec(np.radians(rng.normal(0.0, self.grip_deg, 3))),
         )
-        rot = limbs.compose(
-            frame, arc, limbs.about("y", -hand), limbs.about("z", side * twist), base, grip
-        )
+        rot = limbs.compose(arm_frame, hand_turn, limbs.about("z", side * twist), base, grip)
         return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=np.ones(len(body.t)))
 
     def _simulate(

@@ -66,7 +66,7 @@ INSIDE = {
         "gyro_rms_2",
         "gyro_rms_3",
     },
-    "dangling": {"step_hz", "acc_crest", "acc_kurtosis", "share_2nd"},
+    "dangling": {"step_hz", "acc_crest", "acc_kurtosis", "share_2nd", "gyro_rms_3"},
     "pocketed": {
         "step_hz",
         "cadence_ratio",
