@@ -74,6 +74,7 @@ INSIDE = {
         "acc_p2p",
         "acc_crest",
         "acc_kurtosis",
+        "share_2nd",
         "share_stride",
     },
 }
