@@ -194,8 +194,10 @@ class Draft:
         size: float,
         steel_m3: float,
         keep: Callable[[float, float], bool],
+        splice_z: float | None = None,
     ) -> None:
-        """Pillars at structural grid points accepted by ``keep``, duplicates dropped."""
+        """Pillars at structural grid points accepted by ``keep``, duplicates dropped;
+        ``splice_z``: steel columns' splice height (:class:`PillarSpec`)."""
         outline = self.footprint()
         for x, y in points:
             x, y = mm(x), mm(y)
@@ -210,6 +212,7 @@ class Draft:
                     "size": [size, size],
                     "material": "concrete",
                     "steel_volume_m3": mm(steel_m3 * self.rng.uniform(0.85, 1.15)),
+                    "splice_z": splice_z,
                 }
             )
 
