@@ -249,6 +249,11 @@ class PillarSpec(_Spec):
     steel_volume_m3: NonNegFloat = 0.015
     """Reinforcing steel per storey; the column continues through the storeys
     above and below, which carry the same amount."""
+    splice_z: Annotated[float, Field(gt=0, allow_inf_nan=False)] | None = None
+    """A steel column erected in two-storey lengths: the height above this floor of
+    the splice between them (0.5–0.6 m is usual), where one length's magnetisation
+    ends and the next one's begins. None: a concrete column, its bars lapped at
+    every slab (one element per storey)."""
 
 
 class ObstacleSpec(_Spec):

@@ -19,7 +19,9 @@ B(p) = B_earth + Σ_j μ0/4π · [3(m_j·r̂)r̂ − m_j]/r³,   r = p − q_j.
   source, a field as rough as the grid. Per source:
 
   - pillars: a vertical chain of dipoles through the storey below, this one and
-    the one above (columns run through the slabs), vertical bars and ties;
+    the one above (columns run through the slabs), vertical bars and ties; a
+    steel column erected in two-storey lengths is one element below its splice
+    and one above (``PillarSpec.splice_z``);
   - slab and beam rebar: a grid of dipoles at the slab's or beam's height, its
     bars a two-way mesh or a beam's longitudinal bars and stirrups;
   - steel furniture (sheet steel): one dipole at half its height, isotropic,
@@ -558,8 +560,15 @@ class MagneticModel:
             z = (np.arange(3 * n) + 0.5) * (h / n) - h  # storey below, this, above
             pos = np.array([(*p.center, zz) for p in scenario.pillars for zz in z])
             vol = np.repeat([p.steel_volume_m3 / n for p in scenario.pillars], len(z))
-            # One element per pillar and storey: the bars are lapped at each slab.
-            element = np.arange(len(pos)) // n
+            # One element per pillar and storey: the bars are lapped at each slab;
+            # a spliced steel column is one length below its splice, one above.
+            storey = np.arange(len(z)) // n
+            element = np.concatenate(
+                [
+                    3 * i + (storey if p.splice_z is None else (z >= p.splice_z))
+                    for i, p in enumerate(scenario.pillars)
+                ]
+            )
             column = [(_Z, 1.0 - ties), (_X, ties / 2), (_Y, ties / 2)]
             groups.append((pos, bars(vol, element, column, _STREAM_PILLARS), "pillar"))
         steel_obst = [o for o in scenario.obstacles if o.steel_volume_m3 > 0]

@@ -428,3 +428,21 @@ def test_slab_patches_and_pillar_storeys_are_elements():
     pillar = model.moments[model.sources == "pillar"].reshape(3, -1, 3)  # three storeys
     assert np.ptp(pillar, axis=1).max() < 1e-12  # one moment per storey
     assert np.ptp(pillar[:, 0], axis=0).max() > 0  # and storeys differ
+
+
+def test_a_spliced_steel_column_is_one_length_below_its_splice_and_one_above():
+    scn = parse_scenario(
+        box_scenario(
+            pillars=[{"center": [3, 3], "splice_z": 0.6}, {"center": [7, 3]}],
+            magnetic={"remanent_ratio": 1.0},
+        )
+    )
+    model = MagneticModel.from_scenario(scn, FloorPlan(scn))
+    pos = model.positions[model.sources == "pillar"]
+    mom = model.moments[model.sources == "pillar"]
+    spliced = pos[:, 0] == 3
+    for part in (pos[:, 2] < 0.6, pos[:, 2] >= 0.6):
+        assert np.ptp(mom[spliced & part], axis=0).max() < 1e-12  # one length, one moment
+    assert np.ptp(mom[spliced], axis=0).max() > 0  # the two lengths differ
+    # The concrete column beside it keeps one element per storey.
+    assert len(np.unique(mom[~spliced].round(12), axis=0)) == 3

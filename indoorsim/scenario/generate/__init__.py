@@ -38,14 +38,18 @@ afterwards, clear of doors and routes, so every route stays walkable.
 
 Steel (see :meth:`.draft.Draft.magnetic`): columns carry 0.035–0.07 m³ of
 reinforcement per storey (a 0.6 m column with 3–5 % steel plus the beam bars
-at its head), the floor and ceiling slabs a rebar mesh at z = −0.15 m and
-ceiling + 0.15 m, the beams on the column lines 5–8 dm³ per metre, steel
+at its head; 0.07–0.11 m³ under a building in a car park, 0.08–0.13 m³ of
+rolled section in a steel-framed mall), the floor and ceiling slabs a rebar
+mesh (or a mall's steel decking) at z = −0.15 m and ceiling + 0.15 m, the
+beams on the column lines 5–8 dm³ per metre (14.5 in a mall, with secondary
+beams of 8 dm³ per metre at most 3 m apart), steel
 furniture 1.5–12 dm³ per piece, and the strong sources are explicit dipoles of
 up to 100 A·m² (REALISM §2.3): lift cars and counterweights, fire doors, steel
 door frames, radiators, electrical cabinets, pumps, escalator trusses. Their
 moments point mostly along the Earth's field (induced) with a random remanent
 part. Reinforcement is bars magnetised along their axes, one element (a
-column's storey, a slab's bay, a beam's bay) at a time
+column's storey, a slab's bay or a mesh sheet or decking span, a beam's bay,
+a secondary beam) at a time
 (:class:`~indoorsim.scenario.schema.MagneticSpec`). The remanent ratio, 2, is
 the one amplitude calibrated against REALISM §2.2 (real indoor walks: σ(|B|)
 2–9 µT, extremes up to ±25 µT): along the round trip of generated offices

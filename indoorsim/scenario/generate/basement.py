@@ -13,7 +13,9 @@ Figures it follows:
 * Structure: stalls 5.1–5.4 m deep, aisles 5.5–6.6 m, cross aisles 6–7 m;
   bays of 7.8–8.4 m (three 2.5 m stalls and a column), 3–6 of them; ceilings
   3.0–3.6 m; 0.35 m concrete outer walls; columns 0.6–0.8 m with
-  0.045–0.07 m³ of steel; beams 8 dm³ per metre.
+  0.07–0.11 m³ of steel (they carry every storey above); beams 8 dm³ per
+  metre; a ground-bearing floor slab with fabric mesh (1.6 dm³ per m², sheets
+  4.8 m long, BS 4483) under a podium slab of 5 dm³ per m².
 * Strong steel, within REALISM §2.3's 10–100 A·m²: fire doors of the stair and
   plant room 25–45 A·m², the lift (car 60–100, counterweight 30–60, rails
   10–20), three pumps or switchgear in the plant room 50–100; parked cars in a
@@ -136,7 +138,9 @@ def build_basement(size: Size | None, seed: int) -> Scenario:
     d.add_pillars(
         ((x, y) for x in x_lines for y in y_lines),
         size=pillar,
-        steel_m3=rng.uniform(0.045, 0.07),
+        # Basement columns carry every storey above: 3–4 % of steel with the laps
+        # of the bars from below, 0.07–0.11 m³ over a 3.0–3.6 m storey [E].
+        steel_m3=rng.uniform(0.07, 0.11),
         keep=lambda x, y: d.on_wall(x, y) or cell_at(inside_room, x, y) is None,
     )
     d.add_beams(
@@ -227,7 +231,18 @@ def build_basement(size: Size | None, seed: int) -> Scenario:
             f"{n_modules} driving aisle(s) with stall rows, a {bay:.2f} m column grid, "
             f"stair and lift core, plant room, ramp; dim tube lighting over the aisles."
         ),
-        magnetic=d.magnetic(beam_m3_per_m=0.008, bay_m=bay),
+        # The floor is a ground-bearing slab with a mesh top and bottom (A393:
+        # 2 × 6.2 kg/m²); the ceiling the building's podium slab, 300 mm under
+        # heavier loads (fire-engine access, landscaping: EN 1991-1-1 cat. G),
+        # about 40 kg/m² of bars [E].
+        magnetic=d.magnetic(
+            beam_m3_per_m=0.008,
+            bay_m=bay,
+            slab_m3_per_m2=0.0016,
+            slab_element_m=4.8,
+            ceiling_m3_per_m2=0.005,
+            ceiling_element_m=bay,
+        ),
         radio={
             "path_loss_exponent": 2.2,
             "shadowing_sigma_db": 5.0,

@@ -22,6 +22,7 @@ the package docstring.
 from __future__ import annotations
 
 import datetime
+import itertools
 import math
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
@@ -135,6 +136,7 @@ class Draft:
         self.wifi: list[dict] = []
         self.routes: dict[str, dict] = {}
         self.beam_lines: list[tuple[bool, float, float, float]] = []
+        self.secondary_lines: list[tuple[bool, float, float, float]] = []
         self.surveys: dict[str, dict] = {}
         self._bssids: set[str] = set()
 
@@ -192,8 +194,10 @@ class Draft:
         size: float,
         steel_m3: float,
         keep: Callable[[float, float], bool],
+        splice_z: float | None = None,
     ) -> None:
-        """Pillars at structural grid points accepted by ``keep``, duplicates dropped."""
+        """Pillars at structural grid points accepted by ``keep``, duplicates dropped;
+        ``splice_z``: steel columns' splice height (:class:`PillarSpec`)."""
         outline = self.footprint()
         for x, y in points:
             x, y = mm(x), mm(y)
@@ -208,6 +212,7 @@ class Draft:
                     "size": [size, size],
                     "material": "concrete",
                     "steel_volume_m3": mm(steel_m3 * self.rng.uniform(0.85, 1.15)),
+                    "splice_z": splice_z,
                 }
             )
 
@@ -519,8 +524,33 @@ class Draft:
             for lo, hi in merge_intervals(iv)
         ]
 
+    def add_secondary_beams(self, spacing: float, *, horizontal: bool) -> None:
+        """Secondary beams between the primary beam lines running the other way:
+        lines along x (``horizontal``) or y, ``spacing`` or a bit less apart, so
+        each span between primary lines is split evenly (steel floors carry their
+        decking on secondaries 2.5–3.5 m apart [SCI P300, Composite slabs and
+        beams using steel decking: decking spans of 2.5–3.6 m])."""
+        parallel = sorted({c for h, c, _, _ in self.beam_lines if h == horizontal})
+        supports = sorted({c for h, c, _, _ in self.beam_lines if h != horizontal})
+        lines = []
+        for a, b in itertools.pairwise(parallel):
+            n = math.ceil((b - a) / spacing - 1e-6)
+            lines += [mm(a + k * (b - a) / n) for k in range(1, n)]
+        # One beam per span between the primary beams that carry it.
+        self.secondary_lines = [
+            (horizontal, c, lo, hi) for c in lines for lo, hi in itertools.pairwise(supports)
+        ]
+
     def magnetic(
-        self, *, beam_m3_per_m: float, bay_m: float, slab_m3_per_m2: float = 0.003
+        self,
+        *,
+        beam_m3_per_m: float,
+        bay_m: float,
+        slab_m3_per_m2: float = 0.003,
+        slab_element_m: float | None = None,
+        secondary_m3_per_m: float = 0.0,
+        ceiling_m3_per_m2: float | None = None,
+        ceiling_element_m: float | None = None,
     ) -> dict:
         """The ``magnetic`` section: explicit dipoles plus the slabs' and beams' steel.
 
@@ -548,20 +578,41 @@ class Draft:
             bay_m: the structural bay: the side of a slab's patches and the length
                 of a beam's elements.
             slab_m3_per_m2: mesh steel per m² of slab.
+            slab_element_m: side of the slab's patches magnetised as one; the bay
+                when None (a composite floor's decking sheets span one secondary
+                beam spacing).
+            secondary_m3_per_m: steel per metre of the secondary beams
+                (:meth:`add_secondary_beams`), each spanning one bay.
+            ceiling_m3_per_m2: mesh steel per m² of the ceiling's slab when it
+                differs from the floor's (a car park's ground slab under a
+                podium slab).
+            ceiling_element_m: the ceiling slab's patch side when it differs
+                from the floor's.
         """
         bay = mm(bay_m)
         rebar = []
-        for slab_z, beam_z in ((-0.15, -0.3), (mm(self.h + 0.15), mm(self.h + 0.15))):
+        lines = [(line, beam_m3_per_m, bay) for line in self.beam_lines]
+        # A secondary beam is one rolled member: one element.
+        lines += [
+            (line, secondary_m3_per_m, mm(line[3] - line[2])) for line in self.secondary_lines
+        ]
+        floor_patch = mm(slab_element_m) if slab_element_m else bay
+        ceiling_patch = mm(ceiling_element_m) if ceiling_element_m else floor_patch
+        ceiling = slab_m3_per_m2 if ceiling_m3_per_m2 is None else ceiling_m3_per_m2
+        for slab_z, beam_z, slab_steel, patch in (
+            (-0.15, -0.3, slab_m3_per_m2, floor_patch),
+            (mm(self.h + 0.15), mm(self.h + 0.15), ceiling, ceiling_patch),
+        ):
             rebar.append(
                 {
                     "z": slab_z,
                     "spacing": 1.0,
-                    "steel_volume_m3_per_m2": slab_m3_per_m2,
+                    "steel_volume_m3_per_m2": slab_steel,
                     "bars": "mesh",
-                    "element_m": bay,
+                    "element_m": patch,
                 }
             )
-            for horizontal, coord, lo, hi in self.beam_lines:
+            for (horizontal, coord, lo, hi), m3_per_m, element in lines:
                 x0, y0, x1, y1 = (
                     (lo, coord - 0.25, hi, coord + 0.25)
                     if horizontal
@@ -572,10 +623,10 @@ class Draft:
                     {
                         "z": beam_z,
                         "spacing": 0.5,
-                        "steel_volume_m3_per_m2": mm(beam_m3_per_m / 0.5),
+                        "steel_volume_m3_per_m2": mm(m3_per_m / 0.5),
                         "region": [[mm(x), mm(y)] for x, y in corners],
                         "bars": "x" if horizontal else "y",
-                        "element_m": bay,
+                        "element_m": element,
                     }
                 )
         return {

@@ -10,9 +10,14 @@ the ring and an escalator, a long steel truss, clear of the aisles.
 Figures it follows:
 
 * Structure: a drawn footprint of 36–60 m × 28–44 m; shops 6.0–8.4 m deep,
-  partitioned on the column lines; a column grid of 7.8–9.0 m with columns of
-  0.7–0.9 m and 0.045–0.07 m³ of steel; a 4.5–6.0 m high hall; 0.3 m
-  concrete outer walls; beams 6 dm³ per metre.
+  partitioned on the column lines; a column grid of 7.8–9.0 m; a 4.5–6.0 m
+  high hall; 0.3 m concrete outer walls. A steel frame for a mall's 4–5 kN/m²
+  (EN 1991-1-1 categories C/D, against an office's 2.5–3): rolled columns of
+  0.08–0.13 m³ per storey cased to 0.7–0.9 m, erected in two-storey lengths
+  spliced 0.6 m above the floor (SCI P358), primary beams of 14.5 dm³ per
+  metre on the column lines, secondary beams of 8 dm³ per metre at most 3 m
+  apart, and composite slabs on steel decking (1.7 dm³ per m² with the mesh;
+  SCI P300).
 * Strong steel, within REALISM §2.3's 10–100 A·m²: shop door frames
   5–15 A·m², the stair's fire door 25–45, the escalator truss as four
   dipoles of 40–80 rising along its length; shelves in every shop, counters
@@ -168,13 +173,19 @@ def build_open_hall(size: Size | None, seed: int) -> Scenario:
             for y in sorted({0.0, *y_bays, mm(width)})
         ),
         size=pillar,
-        steel_m3=rng.uniform(0.045, 0.07),
+        # Rolled steel columns (UC 305×305×118 to 356×368×177: 0.08–0.13 m³ over a
+        # 4.5–6 m storey), encased in concrete for fire protection.
+        steel_m3=rng.uniform(0.08, 0.13),
         keep=keep,
+        # Erected in two-storey lengths, spliced 0.6 m above the floor, clear of
+        # the beam connections and at a fitter's working height [SCI P358].
+        splice_z=0.6,
     )
     d.add_beams(
         [(False, x, 0.0, width) for x in sorted({0.0, *x_bays, mm(length)})]
         + [(True, y, 0.0, length) for y in sorted({0.0, *y_bays, mm(width)})]
     )
+    d.add_secondary_beams(3.0, horizontal=False)
     shop_doors = []
     for shop in shops:
         shop_doors += d.add_doors(
@@ -270,6 +281,17 @@ def build_open_hall(size: Size | None, seed: int) -> Scenario:
             f"{shop_depth:.1f} m deep on {sides} sides of a {h:.1f} m high hall with "
             f"free-standing columns, kiosks and an escalator."
         ),
-        magnetic=d.magnetic(beam_m3_per_m=0.006, bay_m=hall.width / nx),
+        # A steel frame with composite floors (SCI P300): primary beams UB 610×229
+        # (≈ 113 kg/m) on the column lines, secondaries UB 406×178×60–67 at ≤ 3 m
+        # for a mall's 4–5 kN/m² (EN 1991-1-1 categories C/D), and 0.9–1 mm
+        # decking (≈ 10.5 kg/m²) plus an A193 anti-crack mesh (≈ 3 kg/m²) as the
+        # slab's steel, one decking span magnetised as one.
+        magnetic=d.magnetic(
+            beam_m3_per_m=0.0145,
+            bay_m=hall.width / nx,
+            slab_m3_per_m2=0.0017,
+            slab_element_m=3.0,
+            secondary_m3_per_m=0.008,
+        ),
         radio={"path_loss_exponent": 2.2, "shadowing_sigma_db": 5.0},
     )

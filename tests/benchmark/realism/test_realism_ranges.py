@@ -81,7 +81,7 @@ INSIDE = {
 """(mode, statistic) inside the real range on every site, per mode."""
 
 INSIDE_ENVIRONMENT: dict[str, set[str]] = {
-    MAGNETIC_MODE: {"std_short", "mag_std"},
+    MAGNETIC_MODE: {"std_short", "mag_std", "std_long"},
     RADIO_MODE: {"rss_mean", "aps_per_scan", "scan_interval", "visit_std", "miss_share"},
     LIGHT_MODE: set(),
 }
