@@ -736,21 +736,19 @@ class Dangling(CarryMode):
             arm_frame, np.column_stack([np.cos(arm), np.zeros_like(arm), np.sin(arm)])
         )
         beside = limbs.apply(arm_frame, [0.0, 1.0, 0.0])
-        wrist_hz, wrist_zeta = self.wrist_natural_hz, self.wrist_damping
-        flexion = limbs.oscillator(
-            -np.gradient(np.gradient(arm, body.t), body.t)
-            - np.einsum("ij,ij->i", wrist_acc, ahead) / grip_lever,
-            rng.uniform(*wrist_hz),
-            rng.uniform(*wrist_zeta),
-            body.rate_hz,
-        )
-        deviation = limbs.oscillator(
-            -np.gradient(np.gradient(lean, body.t), body.t)
-            - np.einsum("ij,ij->i", wrist_acc, beside) / grip_lever,
-            rng.uniform(*wrist_hz),
-            rng.uniform(*wrist_zeta),
-            body.rate_hz,
-        )
+
+        def wrist_turn(arm_angle: NDArray[np.float64], across: NDArray[np.float64]):
+            # One plane of the wrist: a damped spring under the arm's angular
+            # acceleration in that plane and the wrist's acceleration across the hand.
+            drive = (
+                -np.gradient(np.gradient(arm_angle, body.t), body.t)
+                - np.einsum("ij,ij->i", wrist_acc, across) / grip_lever
+            )
+            natural = rng.uniform(*self.wrist_natural_hz)
+            return limbs.oscillator(drive, natural, rng.uniform(*self.wrist_damping), body.rate_hz)
+
+        flexion = wrist_turn(arm, ahead)  # in the swing's plane
+        deviation = wrist_turn(lean, beside)  # sideways, in the frontal plane
         hand = arm + flexion
         hand_turn = limbs.compose(limbs.about("y", -hand), limbs.about("x", deviation))
         limb = to_wrist + limbs.apply(hand_turn, [0.0, 0.0, -grip_lever])
