@@ -54,12 +54,20 @@ from indoorsim.benchmark.evaluation import (
     training_walks,
     true_positions_at,
 )
-from indoorsim.estimators.base import NotApplicableError
-from indoorsim.io.faults import Fault, ModeChange, apply_faults, parse_fault, walk_arguments
+from indoorsim.estimators.base import Estimator, NotApplicableError, SiteContext
+from indoorsim.io.faults import (
+    Fault,
+    MagneticDisturbance,
+    ModeChange,
+    apply_faults,
+    parse_fault,
+    walk_arguments,
+)
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
 from indoorsim.simulate import simulate
 from indoorsim.walker.schedule import ScheduleLike
+from indoorsim.world.site import Site
 
 __all__ = [
     "BOARD_FAULTS",
@@ -178,9 +186,9 @@ def recovery_time(
     return float(t[first + hits[0]] - t[first]) if len(hits) else math.inf
 
 
-def _episode(est: object, rec: Recording, ctx: object, seed: int) -> _Run:
+def _episode(est: Estimator, rec: Recording, ctx: SiteContext, seed: int) -> _Run:
     try:
-        res = run_episode(est, rec, ctx, start_info(rec, seed))  # type: ignore[arg-type]
+        res = run_episode(est, rec, ctx, start_info(rec, seed))
     except EstimatorError as err:
         return _Run(crash=str(err))
     return _Run(t=res.t, estimate=res.estimate, recording=rec)
@@ -188,8 +196,8 @@ def _episode(est: object, rec: Recording, ctx: object, seed: int) -> _Run:
 
 def _fault_end(fault: Fault) -> float | None:
     """When a fault stops acting, s; None for one that lasts to the walk's end."""
-    if fault.name == "magnetic_disturbance":  # a Gaussian bump: 3 sigma past its centre
-        return float(fault.t0 + 3.0 * fault.sigma)  # type: ignore[attr-defined]
+    if isinstance(fault, MagneticDisturbance):  # a Gaussian bump: 3 sigma past its centre
+        return float(fault.t0 + 3.0 * fault.sigma)
     t1 = getattr(fault, "t1", None)
     return None if t1 is None else float(t1)
 
@@ -235,14 +243,9 @@ def _for_mode(fault: Fault, mode: str) -> Fault:
 class _Walks:
     """The test walks of one mode, clean and under each fault, built once for every estimator."""
 
-    def __init__(self, site: object, route: str, mode: str, device: str, faults: list[Fault]):
-        self.site, self.route, self.mode, self.device, self.faults = (
-            site,
-            route,
-            mode,
-            device,
-            faults,
-        )
+    def __init__(self, site: Site, route: str, mode: str, device: str, faults: list[Fault]):
+        self.site, self.route, self.mode, self.device = site, route, mode, device
+        self.faults = faults
         self._clean: dict[int, Recording] = {}
         self._faulty: dict[tuple[int, int], Recording] = {}
 
@@ -265,12 +268,12 @@ class _Walks:
 
 
 def _estimator_rows(
-    est: object,
+    est: Estimator,
     name: str,
     mode: str,
     faults: list[Fault],
     walks: _Walks,
-    ctx: object,
+    ctx: SiteContext,
     seeds: tuple[int, ...],
     progress: Progress | None,
 ) -> list[dict[str, object]]:
