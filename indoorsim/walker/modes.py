@@ -1,7 +1,7 @@
 """Carrying modes by name: the :class:`CarryMode` protocol and its registry.
 
 A carrying mode turns the body's motion into the phone's pose
-(:mod:`indoorsim.walker.carry` holds the built-in ones: ``handheld``,
+(:mod:`indoorsim.walker.carry_modes` holds the built-in ones: ``handheld``,
 ``calling``, ``dangling``, ``pocketed``). Modes are components: frozen
 dataclasses whose fields are their parameters, registered by name in
 :data:`MODES` with :func:`register_mode`. Other packages add modes through the
@@ -46,7 +46,7 @@ __all__ = [
 ENTRY_POINT_GROUP = "indoorsim.modes"
 """Entry-point group through which other packages add carrying modes."""
 
-_BUILT_IN = "indoorsim.walker.carry"
+_BUILT_IN = "indoorsim.walker.carry_modes"
 """The module whose import registers the built-in modes."""
 
 

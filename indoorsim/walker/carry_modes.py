@@ -1,0 +1,788 @@
+"""The built-in carrying modes: the phone's pose in each, given the body's motion.
+
+Numbers from REALISM §6.1; :func:`~indoorsim.walker.carry.carry` follows a
+schedule of them (DESIGN §5):
+
+* ``handheld`` — in front of the chest, screen up and pitched toward the eyes
+  (``pitch_deg``: 0 is flat, as in Han2023's experiments; ~30° is texting),
+  y-axis forward; the forearm swings at the elbow and the hand nods and rocks
+  the phone at the wrist, each joint a damped spring driven by the trunk's
+  motion, plus a faint 8–12 Hz tremor.
+* ``calling`` — at the ear, screen toward the head, long axis tilted 30–60°
+  from vertical, x-axis along ±forward; the head rides on the neck (a damped
+  spring) and nods and rocks on it; it shades the light sensor.
+* ``dangling`` — in the swinging hand: the arm is a pendulum about the
+  shoulder, simulated with pymunk, driven at stride frequency (±15–25°) and
+  shaken by the shoulder's own acceleration; the forearm follows through at
+  the elbow (damped, lagging the shoulder), turning and arcing with its swing;
+  the hand turns at the wrist in two planes, shaken by all the wrist's motion.
+* ``pocketed`` — in a front trouser pocket (either side): long axis along the
+  thigh, which turns at the hip in three planes over the gait cycle (flexion
+  after the normal-gait hip curve, ab-/adduction and rotation with drawn lags),
+  jolted at the same-side heel strike, in the dark; the phone rocks on its hold.
+
+What a mode draws per use (grip, misalignment, joint stiffness and damping,
+pocket side and placement, swing and twist amplitudes) is in its fields'
+documentation; a schedule entry's parameters fix any of them. Importing this
+module registers the four (:mod:`indoorsim.walker.modes` holds the protocol
+and the registry). Frames and ``light_exposure``: :mod:`indoorsim.walker.carry`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar, Literal
+
+import numba
+import numpy as np
+import pymunk
+from numpy.typing import NDArray
+from pymunk._chipmunk_cffi import lib as _CP
+from scipy.interpolate import CubicSpline
+
+from indoorsim.util import quaternion as quat_ops
+from indoorsim.walker import limbs
+from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory
+from indoorsim.walker.modes import CarryMode, ModePose, register_mode
+from indoorsim.walker.motion import impulse_displacement
+from indoorsim.walker.physics import PYMUNK_LOCK
+
+__all__ = ["Calling", "Dangling", "Handheld", "Pocketed"]
+
+_G = 9.81
+# Segment heights and lengths as fractions of body height (Drillis & Contini
+# anthropometric ratios, as commonly tabulated) [E].
+_SHOULDER_H, _EAR_H, _CHEST_H, _HIP_H = 0.818, 0.90, 0.70, 0.50
+_ARM_LENGTH = 0.386  # shoulder to the middle of the grip
+_SHOULDER_HALF_WIDTH = 0.115
+_HIP_HALF_WIDTH = 0.055
+# Where the phone sits in a front trouser pocket: along the thigh from the hip
+# joint, and off the thigh's axis (m) [E].
+_POCKET_ALONG_M, _POCKET_FRONT_M = 0.15, 0.07
+# A phone as the pocket holds it: a plate of this length and width, its centre
+# of mass this far off the thigh's surface (half a phone's thickness) (m).
+_PHONE_LENGTH_M, _PHONE_WIDTH_M, _POCKET_LEVER_M = 0.15, 0.072, 0.004
+
+
+def _hip_flexion() -> CubicSpline:
+    """The hip's sagittal angle over a gait cycle from heel strike, scaled to ±1.
+
+    Knots read off the normal-gait hip flexion curve (Winter, *Biomechanics and
+    Motor Control of Human Movement*, 2009: ≈ 25° flexed at heel strike,
+    ≈ 10° extended at 55 % of the cycle, ≈ 30° flexed late in swing) [E],
+    joined by a periodic cubic spline.
+    """
+    p = np.array([0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.55, 0.62, 0.7, 0.8, 0.88, 0.95, 1.0])
+    deg = np.array([25.0, 23.0, 15.0, 7.0, 0.0, -8.0, -10.0, -4.0, 8.0, 22.0, 28.0, 27.0, 25.0])
+    grid = np.linspace(0.0, 1.0, 1001)
+    raw = CubicSpline(p, deg, bc_type="periodic")(grid)
+    mid, half = 0.5 * (raw.max() + raw.min()), 0.5 * np.ptp(raw)
+    return CubicSpline(p, (deg - mid) / half, bc_type="periodic")
+
+
+_HIP_FLEXION = _hip_flexion()
+
+
+def _pelvic_list() -> CubicSpline:
+    """The pelvis's frontal-plane tilt over a gait cycle from one side's heel strike,
+    that side up positive, scaled to ±1.
+
+    Knots read off normal gait's pelvic obliquity (Perry & Burnfield, *Gait
+    Analysis*, 2010; Winter 2009): in that side's loading response the other,
+    unloaded side drops fast — the hip on the loaded side rises relative to it,
+    most at 12–15 % of the cycle — and it levels slowly through single support;
+    the next half cycle mirrors it [E]. The fast drop puts the stride's third
+    harmonic into the hip's vertical motion.
+    """
+    p = np.array([0.0, 0.05, 0.13, 0.2, 0.3, 0.4, 0.5])
+    up = np.array([0.0, 0.6, 1.0, 0.9, 0.5, 0.2, 0.0])
+    p, up = np.r_[p, p[1:] + 0.5], np.r_[up, -up[1:]]
+    return CubicSpline(p, up, bc_type="periodic")
+
+
+_PELVIC_LIST = _pelvic_list()
+
+# ---------------------------------------------------------------------- shared pieces
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _pocket_offset(sin_a, cos_a, sin_b, cos_b, jolt, shear, out):  # pragma: no cover - compiled
+    """The phone's place from the hip joint in the pelvis frame, the thigh flexed by α
+    (sin_a, cos_a) and the pocket β round the thigh from its front toward +y (sin_b,
+    cos_b): along·thigh + front·(cos β·forward normal + sin β·lateral), less the
+    jolt along the thigh and ``shear`` times it across the thigh's face. One pass
+    over the samples.
+    """
+    for k in range(out.shape[0]):
+        s, c, j = sin_a[k], cos_a[k], jolt[k]
+        thigh = (s, 0.0, -c)
+        normal = (c * cos_b[k], sin_b[k], s * cos_b[k])
+        for i in range(3):
+            v = _POCKET_ALONG_M * thigh[i] + _POCKET_FRONT_M * normal[i]
+            # The jolt drives the phone up along the thigh and shakes the flesh under it.
+            out[k, i] = v - j * (thigh[i] + shear * normal[i])
+
+
+def _side(which: str) -> float:
+    """+1 for the left side of the body (its +y), −1 for the right."""
+    return 1.0 if which == "left" else -1.0
+
+
+# ---------------------------------------------------------------------- modes
+
+
+@register_mode
+@dataclass(kw_only=True, frozen=True)
+class Handheld(CarryMode):
+    """Held in front of the chest, screen up, looked at (REALISM §6.1 texting row).
+
+    Two joints carry the phone, each held by muscle like a damped spring
+    (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, which rides on the
+    trunk (its bounce, heel strikes and yaw), and the hand, with the phone,
+    pivots at the wrist. The elbow's acceleration across the forearm swings
+    the forearm (stiff, 4–6 Hz: the phone's acceleration is the trunk's passed
+    through it, harmonics and all); the hand's acceleration acts on the phone's
+    offset from the wrist and nods it (pitch) and rocks it (roll), softly —
+    the largest rotation of a real handheld phone, at the step rate. The grip
+    turns the phone a little about the forearm, so the nod shows on more than
+    one phone axis.
+    """
+
+    name: ClassVar[str] = "handheld"
+    pitch_deg: float = 30.0
+    """Screen tilt toward the eyes: 0 is flat and steady (Han2023's experiments),
+    20–45° is texting or browsing."""
+    misalignment_deg: float = 5.0
+    """SD of the phone's yaw relative to the walking direction, drawn per use
+    (≈ 0 ± 10°)."""
+    hand: Literal["right", "left"] = "right"
+    """Holding hand: the phone sits slightly to that side."""
+    tremor_deg: float = 0.03
+    """RMS of the hand's 8–12 Hz angular tremor [E]."""
+    tremor_mm: float = 0.015
+    """RMS of the hand's 8–12 Hz positional tremor (≈ 0.06 m/s² RMS) [E]."""
+    forearm_m: float = 0.3
+    """Elbow to the middle of the grip (≈ 0.17 of body height, Drillis & Contini)."""
+    forearm_rise_deg: float = 25.0
+    """Elevation of the forearm from the elbow up to the hand [E]."""
+    forearm_inward_deg: float = 25.0
+    """Turn of the forearm toward the body's midline: the elbow is at the side [E]."""
+    elbow_natural_hz: tuple[float, float] = (5.5, 7.5)
+    """Range of the held forearm's natural frequency about the elbow, drawn per use [E]."""
+    elbow_damping: tuple[float, float] = (0.4, 0.6)
+    """Range of the forearm's damping ratio, drawn per use [E]."""
+    wrist_offset_m: float = 0.07
+    """Distance from the wrist to the centre of mass of hand and phone, along the hand [E]."""
+    palm_height_m: float = 0.02
+    """Height of that centre of mass above the forearm's axis (the phone lies on the palm) [E]."""
+    thumb_offset_m: float = 0.03
+    """Its offset beside the forearm's axis, toward the thumb: a phone held in one
+    hand reaches past the thumb, toward the body's midline [E]."""
+    wrist_gyration_m: float = 0.05
+    """Radius of gyration of hand and phone about their centre of mass [E]."""
+    wrist_pitch_hz: tuple[float, float] = (3.0, 4.0)
+    """Range of the wrist's natural frequency in flexion (the nod) and in radial-ulnar
+    deviation (the sideways turn), drawn per use [E]."""
+    wrist_roll_hz: tuple[float, float] = (4.5, 6.5)
+    """Range of its natural frequency in rotation about the forearm, drawn per use [E]."""
+    wrist_damping: tuple[float, float] = (0.15, 0.3)
+    """Range of the wrist's damping ratio, drawn per use [E]."""
+    grip_roll_deg: float = 12.0
+    """Largest turn of the phone about the forearm's axis in the grip, drawn per use [E]."""
+    trunk_coupling: float = 0.8
+    """Fraction of the trunk's yaw oscillation the phone follows: the shoulders
+    turn with the thorax, a little less than the pelvis [E]."""
+
+    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
+        h, rate = body.height_m, body.rate_hz
+        # The phone's rest place: in front of the chest, a little toward the holding hand.
+        rest = np.array([0.13 * h, 0.02 * _side(self.hand), (_CHEST_H - PELVIS_HEIGHT_RATIO) * h])
+        rise, inward = math.radians(self.forearm_rise_deg), math.radians(self.forearm_inward_deg)
+        side = _side(self.hand)
+        level = np.array([math.cos(inward), -side * math.sin(inward), 0.0])
+        along = math.cos(rise) * level + [0.0, 0.0, math.sin(rise)]  # elbow → hand
+        across = -math.sin(rise) * level + [0.0, 0.0, math.cos(rise)]  # the forearm's swing
+        yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
+        frame = limbs.body_frame(yaw)
+        # The elbow hangs from the shoulder: it turns and leans with the trunk.
+        trunk = limbs.compose(frame, limbs.about("x", body.roll))
+        elbow = body.pos + limbs.apply(trunk, rest - self.forearm_m * along)
+        acc = limbs.acceleration(elbow, body.t)
+        horiz = limbs.to_body(acc, yaw)
+        up_across = horiz[:, 0] * across[0] + horiz[:, 1] * across[1] + acc[:, 2] * across[2]
+        swing = limbs.oscillator(
+            -up_across / self.forearm_m,
+            rng.uniform(*self.elbow_natural_hz),
+            rng.uniform(*self.elbow_damping),
+            rate,
+        )
+        lever = np.cos(swing)[:, None] * along + np.sin(swing)[:, None] * across
+        pos = elbow + limbs.apply(frame, self.forearm_m * lever)
+        # The hand's acceleration on its offset from the wrist: angular drive a·d/(d² + ρ²).
+        hand_acc = limbs.acceleration(pos, body.t)
+        hand_horiz = limbs.to_body(hand_acc, yaw)
+        d, rho = self.wrist_offset_m, self.wrist_gyration_m
+        gain = d / (d**2 + rho**2)
+        damping = rng.uniform(*self.wrist_damping)
+        hand_across = (
+            hand_horiz[:, 0] * across[0] + hand_horiz[:, 1] * across[1] + hand_acc[:, 2] * across[2]
+        )
+        nod = limbs.oscillator(
+            -gain * hand_across,
+            rng.uniform(*self.wrist_pitch_hz),
+            damping,
+            rate,
+        )
+        grip = math.radians(rng.uniform(-self.grip_roll_deg, self.grip_roll_deg))
+        # Sideways, the hand's acceleration turns the phone about the vertical (on the
+        # offset along the hand). About the forearm the phone rocks on its centre of
+        # mass's offsets from the axis: the vertical acceleration on the offset toward
+        # the thumb, the sideways one on the height above the palm.
+        turn = limbs.oscillator(
+            -gain * hand_horiz[:, 1], rng.uniform(*self.wrist_pitch_hz), damping, rate
+        )
+        thumb, palm = -side * self.thumb_offset_m, self.palm_height_m
+        rock = limbs.oscillator(
+            (thumb * hand_across - palm * hand_horiz[:, 1]) / (thumb**2 + palm**2 + rho**2),
+            rng.uniform(*self.wrist_roll_hz),
+            damping,
+            rate,
+        )
+        misalign = math.radians(rng.normal(0.0, self.misalignment_deg))
+        n = len(body.t)
+        pos += limbs.tremor(n, rate, 1e-3 * self.tremor_mm, rng)
+        tremor = limbs.tremor(n, rate, math.radians(self.tremor_deg), rng)
+        rot = limbs.compose(
+            limbs.body_frame(yaw + misalign + turn),
+            limbs.about("z", -np.pi / 2),
+            limbs.about("x", math.radians(self.pitch_deg) + swing + nod),
+            limbs.about("y", grip + rock),
+            limbs.from_rotvec(tremor),
+        )
+        return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=np.ones(n))
+
+
+@register_mode
+@dataclass(kw_only=True, frozen=True)
+class Calling(CarryMode):
+    """Held at the ear during a call (REALISM §6.1 calling row, §3.5).
+
+    The phone moves with the head. The head rides on the trunk (its bounce,
+    lean and yaw) through the neck, stiff in translation (a damped spring of
+    ``neck_natural_hz``: the heel strikes' harmonics pass, softened), and it
+    nods and rocks on the neck: the trunk's acceleration acts on the head's
+    centre of mass, ahead of and above the atlas joint, against the neck's
+    muscles (``head_natural_hz``), which steady the head but do not hold it
+    still (:func:`~.limbs.oscillator`).
+    """
+
+    name: ClassVar[str] = "calling"
+    casts_body_shadow: ClassVar[bool] = False  # its exposure is the head's shade
+    ear: Literal["right", "left"] = "right"
+    """The ear the phone is held to; its screen faces the head."""
+    tilt_deg: float | None = None
+    """Tilt of the long axis from vertical (top toward the back of the head);
+    None draws it uniformly from 30–60° per use."""
+    light_exposure_range: tuple[float, float] = (0.05, 0.2)
+    """Range of the head-shadow factor, drawn per use (5–20 % of the light)."""
+    neck_natural_hz: tuple[float, float] = (6.0, 9.0)
+    """Range of the head's natural frequency in translation on the neck, drawn per use [E]."""
+    neck_damping: tuple[float, float] = (0.4, 0.6)
+    """Range of its damping ratio, drawn per use [E]."""
+    head_natural_hz: tuple[float, float] = (2.0, 3.0)
+    """Range of the head's natural frequency in nodding and rocking on the neck [E]."""
+    head_damping: tuple[float, float] = (0.25, 0.45)
+    """Range of their damping ratio, drawn per use [E]."""
+    head_offset_m: float = 0.03
+    """Offset of the head's centre of mass ahead of (and, for rocking, beside) the
+    atlas joint's axis [E]."""
+    head_gyration_m: float = 0.08
+    """Radius of gyration of the head (with hand and phone) about its centre of mass [E]."""
+    trunk_coupling: float = 0.8
+    """Fraction of the trunk's yaw oscillation the head follows: it turns with the
+    thorax, which turns a little less than the pelvis [E]."""
+
+    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
+        h, rate, side = body.height_m, body.rate_hz, _side(self.ear)
+        yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
+        frame = limbs.body_frame(yaw)
+        # The phone's centre: beside the head, a little ahead of and below the ear.
+        offset = np.array([0.05, 0.09 * side, (_EAR_H - 0.02 - PELVIS_HEIGHT_RATIO) * h])
+        # Where the trunk carries the head: the neck's base leans with the trunk.
+        carried = body.pos + limbs.apply(limbs.compose(frame, limbs.about("x", body.roll)), offset)
+        acc = limbs.acceleration(carried, body.t)
+        natural, damping = rng.uniform(*self.neck_natural_hz), rng.uniform(*self.neck_damping)
+        # The head's lag behind the carried point: ü + 2ζωu̇ + ω²u = −a_carried.
+        lag = limbs.oscillator(-acc, natural, damping, rate)
+        pos = carried + lag
+        head_acc = acc + limbs.acceleration(lag, body.t)
+        horiz = limbs.to_body(head_acc, yaw)
+        d, r = self.head_offset_m, self.head_gyration_m
+        gain = d / (d**2 + r**2)
+        f_head, z_head = rng.uniform(*self.head_natural_hz), rng.uniform(*self.head_damping)
+        nod = limbs.oscillator(-gain * head_acc[:, 2], f_head, z_head, rate)
+        rock = limbs.oscillator(gain * horiz[:, 1], f_head, z_head, rate)
+        tilt = math.radians(self.tilt_deg if self.tilt_deg is not None else rng.uniform(30.0, 60.0))
+        # Top up and back, screen toward the head (−side), x = y × z ≈ ∓forward.
+        y = np.array([-math.sin(tilt), 0.0, math.cos(tilt)])
+        z = np.array([0.0, -side, 0.0])
+        rot = limbs.compose(
+            frame,
+            limbs.about("x", rock),
+            limbs.about("y", nod),
+            limbs.from_axes(np.cross(y, z), y, z),
+        )
+        base = rng.uniform(*self.light_exposure_range)
+        light = base * np.exp(0.2 * limbs.slow_noise(len(body.t), rate, rng))
+        return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=light)
+
+
+@register_mode
+@dataclass(kw_only=True, frozen=True)
+class Dangling(CarryMode):
+    """In the hand of a swinging arm (REALISM §6.1 swinging row).
+
+    The arm is a rigid pendulum about the shoulder in the walking plane — a rod
+    of 3 kg with 0.6 kg of hand and phone at the grip — with muscle tone and
+    damping, simulated with pymunk at ``physics_rate_hz`` in the shoulder's
+    accelerating frame (gravity minus the shoulder's acceleration). A shoulder
+    torque drives it at stride frequency; the torque is the linearised
+    pendulum's inverse response to a swing of ``swing_deg``, so the swing is
+    close to that amplitude, in antiphase with the same-side leg, while
+    starting, stopping, bouncing and heel strikes perturb it as they would.
+    The forearm hangs from the elbow, held by muscle like a damped spring
+    (:func:`~.limbs.oscillator`): the upper arm's swing whips it on (the linearised
+    double pendulum), so the hand swings further and faster than the shoulder,
+    and it pronates as the arm swings back and supinates forward. The hand
+    hangs from the wrist in the same way, in two planes: in the swing's it is
+    whipped on by the forearm, and in both it is shaken by what the arm passes
+    down from the shoulder (the trunk's bounce, sway and heel-strike jolts) and
+    by the arm's sideways arc. Those turns about axes through the wrist, a
+    hand's length from the phone, turn the phone about its small axes at the
+    rates real swinging phones show (≈ 2.0 and 1.8 rad/s RMS) with little
+    linear acceleration. The phone
+    lies diagonally across the palm, its top forward and down and its screen
+    outward, the palm turned a little back.
+    """
+
+    name: ClassVar[str] = "dangling"
+    hand: Literal["right", "left"] = "right"
+    """The hand holding the phone."""
+    swing_deg: float | None = None
+    """Swing amplitude about the shoulder; None draws it from 15–25° per use."""
+    palm_turn_deg: tuple[float, float] = (20.0, 45.0)
+    """Range of the hand's turn about the forearm, from the palm facing the thigh
+    toward facing back (a relaxed, hanging forearm is a little pronated), drawn
+    per use [E]. It tips the screen's normal off the swing's axis, so the swing
+    shows on the phone's other axes too."""
+    diagonal_deg: tuple[float, float] = (20.0, 50.0)
+    """Range of the phone's slant across the palm, its top from pointing forward
+    toward pointing down the fingers (curled fingers hold an object diagonally
+    across the palm, the oblique palmar grip), drawn per use [E]. With the palm's
+    turn the swing's rate spreads over the phone's axes about as real swinging
+    phones show it (≈ 3.5 / 2.0 / 1.8 rad/s: 0.8 / 0.45 / 0.4 of the whole)."""
+    grip_deg: float = 8.0
+    """SD of the grip's misalignment about each axis, drawn per use [E]."""
+    damping_ratio: float = 0.25
+    """Damping of the arm pendulum (it settles within a few swings after a stop) [E]."""
+    tone_nm_per_rad: float = 5.0
+    """Shoulder muscle stiffness, raising the arm's natural frequency to ≈ 0.8 Hz [E]."""
+    physics_rate_hz: float = 30.0
+    """Step rate of the pymunk pendulum (upsampled with a C² spline)."""
+    elbow_natural_hz: tuple[float, float] = (1.3, 1.8)
+    """Range of the hanging forearm's natural frequency about the elbow (its
+    gravity pendulum, ≈ 1 Hz, stiffened by muscle tone), drawn per use: with
+    ``elbow_damping`` the elbow flexes and extends 21–49° peak to peak per stride
+    at a ±20° swing (≈ 30° in the middle of both ranges), the spread measured in
+    normal gait (29.7 ± 10.2°, Kang et al., Clin Shoulder Elb 26:126, 2023) [E]."""
+    elbow_damping: tuple[float, float] = (0.4, 0.55)
+    """Range of the elbow's damping ratio, drawn per use [E]. The elbow's
+    flexors and extensors co-contract to steady the forearm, so it is damped
+    well below its own ringing: its flexion lags the shoulder's swing by 28–56°
+    of the stride (a quarter to a sixth of it), and the step-rate jolts that
+    reach it through the shoulder are passed on, not amplified (gain 0.6–1.25 at
+    twice the stride rate; a lightly damped elbow, 0.2–0.4, rings at the step
+    rate and, beating with the swing, puts too much of ‖a‖'s power at the
+    stride rate and too little at the step rate: leaderboards/realism.md)."""
+    twist_deg: tuple[float, float] = (5.5, 8.5)
+    """Range of the forearm's pronation–supination amplitude with the swing, drawn
+    per use: 11–17° peak to peak (14.2 ± 3.2° measured in normal gait, Kang et
+    al. 2023)."""
+    arc_deg: tuple[float, float] = (5.0, 12.0)
+    """Range of the arm's sideways swing, toward the midline forward and out behind
+    (the hand's arc crosses in front of the thigh), drawn per use [E]."""
+
+    wrist_natural_hz: tuple[float, float] = (2.5, 3.5)
+    """Range of the hand's natural frequency about the wrist (a short, light
+    pendulum held by the wrist's muscles), drawn per use for each of its two
+    planes: flexion–extension in the swing's plane and the sideways turn in the
+    frontal plane (with the palm toward the thigh, flexion–extension again; with
+    it turned back, radial–ulnar deviation) [E]."""
+    wrist_damping: tuple[float, float] = (0.2, 0.4)
+    """Range of the wrist's damping ratio, drawn per use for each plane [E]."""
+
+    _UPPER_ARM: ClassVar[float] = 0.186  # shoulder to elbow, of body height (Drillis & Contini)
+    _HAND_COM: ClassVar[float] = 0.05  # wrist to the centre of hand and phone, of body height
+    _ROD_KG: ClassVar[float] = 3.0
+    _HAND_KG: ClassVar[float] = 0.6
+
+    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
+        h, side = body.height_m, _side(self.hand)
+        length = _ARM_LENGTH * h
+        frame = limbs.body_frame(body.yaw)
+        shoulder = body.pos + limbs.apply(
+            frame, [0.0, _SHOULDER_HALF_WIDTH * h * side, (_SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
+        )
+        swing = math.radians(self.swing_deg if self.swing_deg is not None else rng.uniform(15, 25))
+        with PYMUNK_LOCK:  # the pendulum's pymunk space lives and dies inside
+            theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)
+        # The forearm about the elbow: the upper arm's angular acceleration drives it,
+        # by (1 + upper / forearm) for a forearm whose mass sits at the grip.
+        upper = self._UPPER_ARM * h
+        forearm = length - upper
+        theta_acc = np.gradient(np.gradient(theta, body.t), body.t)
+        flex = limbs.oscillator(
+            -(1.0 + upper / forearm) * theta_acc,
+            rng.uniform(*self.elbow_natural_hz),
+            rng.uniform(*self.elbow_damping),
+            body.rate_hz,
+        )
+        arm = theta + flex
+
+        def _down(angle: NDArray[np.float64]) -> NDArray[np.float64]:
+            return np.column_stack([np.sin(angle), np.zeros_like(angle), -np.cos(angle)])
+
+        # The forearm turns and arcs with its own swing, so the three rotations
+        # keep in step: −1 back … +1 forward at a full swing.
+        phase = arm / max(float(np.percentile(np.abs(arm), 98)), 1e-9)
+        twist = math.radians(rng.uniform(*self.twist_deg)) * phase
+        lean = side * math.radians(rng.uniform(*self.arc_deg)) * phase  # toward +y (left)
+        arc = limbs.about("x", lean)
+        grip_lever = self._HAND_COM * h
+        to_wrist = upper * _down(theta) + (forearm - grip_lever) * _down(arm)
+        arm_frame = limbs.compose(frame, arc)
+        # The hand (with the phone) hangs from the wrist, a short pendulum held by
+        # the wrist's muscles in two planes: flexion in the swing's plane and
+        # sideways in the frontal one. What moves the wrist drives it: the
+        # forearm's own swing and arc, and everything the arm passes down from the
+        # shoulder (the trunk's bounce, sway and heel-strike jolts), as the
+        # wrist's acceleration across the hand on the lever of the hand's centre
+        # of mass: θ̈_hand = −(arm's angular acceleration) − a⊥ / lever (gravity's
+        # pull is in the wrist's natural frequency, as the elbow's).
+        wrist_acc = limbs.acceleration(shoulder + limbs.apply(arm_frame, to_wrist), body.t)
+        ahead = limbs.apply(
+            arm_frame, np.column_stack([np.cos(arm), np.zeros_like(arm), np.sin(arm)])
+        )
+        beside = limbs.apply(arm_frame, [0.0, 1.0, 0.0])
+
+        def wrist_turn(arm_angle: NDArray[np.float64], across: NDArray[np.float64]):
+            # One plane of the wrist: a damped spring under the arm's angular
+            # acceleration in that plane and the wrist's acceleration across the hand.
+            drive = (
+                -np.gradient(np.gradient(arm_angle, body.t), body.t)
+                - np.einsum("ij,ij->i", wrist_acc, across) / grip_lever
+            )
+            natural = rng.uniform(*self.wrist_natural_hz)
+            return limbs.oscillator(drive, natural, rng.uniform(*self.wrist_damping), body.rate_hz)
+
+        flexion = wrist_turn(arm, ahead)  # in the swing's plane
+        deviation = wrist_turn(lean, beside)  # sideways, in the frontal plane
+        hand = arm + flexion
+        hand_turn = limbs.compose(limbs.about("y", -hand), limbs.about("x", deviation))
+        limb = to_wrist + limbs.apply(hand_turn, [0.0, 0.0, -grip_lever])
+        pos = shoulder + limbs.apply(arm_frame, limb)
+        # At the bottom of the swing: x down (right hand) or up (left), y
+        # forward, z outward.
+        base = limbs.from_axes([0.0, 0.0, side], [1.0, 0.0, 0.0], [0.0, side, 0.0])
+        # The palm turned back about the forearm (x), the phone slanted across it (z).
+        grip = limbs.compose(
+            limbs.about("x", side * math.radians(rng.uniform(*self.palm_turn_deg))),
+            limbs.about("z", side * math.radians(rng.uniform(*self.diagonal_deg))),
+            limbs.from_rotvec(np.radians(rng.normal(0.0, self.grip_deg, 3))),
+        )
+        rot = limbs.compose(arm_frame, hand_turn, limbs.about("z", side * twist), base, grip)
+        return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=np.ones(len(body.t)))
+
+    def _simulate(
+        self,
+        body: BodyTrajectory,
+        shoulder: NDArray[np.float64],
+        length: float,
+        amplitude: NDArray[np.float64],
+        side: float,
+    ) -> NDArray[np.float64]:
+        """Swing angle (rad, + forward) at the body's samples."""
+        m_rod, m_hand = self._ROD_KG, self._HAND_KG
+        mass = m_rod + m_hand
+        com = (m_rod * length / 2 + m_hand * length) / mass
+        inertia = m_rod * length**2 / 3 + m_hand * length**2  # about the shoulder
+        stiffness = mass * _G * com + self.tone_nm_per_rad
+        damping = 2.0 * self.damping_ratio * math.sqrt(stiffness * inertia)
+
+        # Drive: θ_d = A·cos(2π·stride phase) (the right arm is forward at the
+        # left heel strike) through the inverse of I·θ̈ + c·θ̇ + k·θ = τ.
+        t = body.t
+        stride = body.step_phase / 2.0
+        omega = 2.0 * np.pi * np.gradient(stride, t)
+        cyc = 2.0 * np.pi * (body.stride_phase + (0.0 if side < 0 else 0.5))
+        torque = amplitude * (
+            (stiffness - inertia * omega**2) * np.cos(cyc) - damping * omega * np.sin(cyc)
+        )
+        acc = limbs.acceleration(shoulder, t)
+        fwd = np.cos(body.yaw) * acc[:, 0] + np.sin(body.yaw) * acc[:, 1]  # limbs.to_body's forward
+
+        dt = 1.0 / self.physics_rate_hz
+        t_phys = t[0] + np.arange(math.ceil((t[-1] - t[0]) / dt) + 1) * dt
+        # The shoulder's acceleration, averaged over a physics step so that
+        # heel-strike spikes are not aliased.
+        win = max(1, round(body.rate_hz * dt))
+        smooth = [np.convolve(x, np.ones(win) / win, mode="same") for x in (fwd, acc[:, 2])]
+        gx = -np.interp(t_phys, t, smooth[0])
+        gy = -_G - np.interp(t_phys, t, smooth[1])
+        tau = np.interp(t_phys, t, torque)
+
+        space = pymunk.Space()
+        arm = pymunk.Body(mass, inertia - mass * com**2)
+        arm.center_of_gravity = (0.0, -com)
+        space.add(arm)
+        space.add(pymunk.PivotJoint(space.static_body, arm, (0.0, 0.0), (0.0, 0.0)))
+        space.add(
+            pymunk.DampedRotarySpring(space.static_body, arm, 0.0, self.tone_nm_per_rad, damping)
+        )
+        space.gravity = (float(gx[0]), float(gy[0]))
+        arm.torque = float(tau[0])
+        space.step(dt)  # the first step through pymunk: it checks the bodies once
+        # Then Chipmunk directly: pymunk's property and step wrappers cost more
+        # than the physics here, and this space has no callbacks (same results).
+        # The loop runs some ten thousand times a walk: its names are local.
+        c_space, c_arm = space._space, arm._body
+        get_angle, set_gravity = _CP.cpBodyGetAngle, _CP.cpSpaceSetGravity
+        set_torque, step = _CP.cpBodySetTorque, _CP.cpSpaceStep
+        angle = [0.0]
+        for ax, ay, tk in zip(gx[1:].tolist(), gy[1:].tolist(), tau[1:].tolist(), strict=True):
+            angle.append(get_angle(c_arm))
+            set_gravity(c_space, (ax, ay))
+            set_torque(c_arm, tk)
+            step(c_space, dt)
+        return CubicSpline(t_phys, angle)(t)
+
+
+@register_mode
+@dataclass(kw_only=True, frozen=True)
+class Pocketed(CarryMode):
+    """In a front trouser pocket (REALISM §6.1 pocket row, §5 hip angles).
+
+    The phone rides on the thigh, which turns at the hip in all three planes
+    over the gait cycle: flexion follows the hip's sagittal angle of normal gait
+    (:data:`_HIP_FLEXION`: slow extension through stance, quick flexion in
+    swing, so the pitch rate is not a sinusoid), ab-/adduction and the rotation
+    about the thigh follow at stride frequency with their own, drawn, lags
+    behind it. The hip joint it hangs from rides on the pelvis, which lists
+    sideways (:data:`_PELVIC_LIST`). At the same-side heel strike the thigh
+    stops against the ground and the phone jolts along it.
+
+    The pocket lies on the front-outer face of the thigh (``pocket_yaw_deg``
+    round it from the front), and the phone in it is a plate held at its deep
+    end by the pocket's bottom and against the thigh by the cloth: it rocks on
+    that hold, in its own plane, away from the thigh and about its own long axis
+    (rolling on the thigh's rounded front), as a damped spring
+    (:func:`~.limbs.oscillator`, ``wobble_hz``) under the inertial load of the thigh's
+    acceleration and gravity on its centre of mass and of the thigh turning
+    under it — heel strikes ring it, the swing's tangential acceleration tips it.
+    """
+
+    name: ClassVar[str] = "pocketed"
+    casts_body_shadow: ClassVar[bool] = False  # its exposure is the fabric's
+    side: Literal["right", "left"] | None = None
+    """The pocket's side; None draws it per use."""
+    thigh_swing_deg: float | None = None
+    """Half the thigh's pitch range over the gait cycle; None draws it from
+    18–23° per use (hip range 35–45° peak to peak)."""
+    thigh_mean_deg: float = 5.0
+    """Mean thigh flexion while walking (20–30° flexion at heel contact,
+    10–20° extension late in stance)."""
+    thigh_roll_deg: tuple[float, float] = (3.3, 5.5)
+    """Range of the thigh's frontal-plane swing amplitude (6.7–11° peak to peak,
+    real pockets), drawn per use."""
+    roll_lag_deg: tuple[float, float] = (30.0, 45.0)
+    """Range of its phase lag behind the pitch over the gait cycle, drawn per use:
+    the low end of the 30–90° measured in real pockets. Pitch and roll out of phase
+    cone, and turn the gyro heading by about π·pitch·roll·sin(lag) per stride (the
+    area the tilt encloses): over the whole 30–90° that is 2–6°/stride with this
+    swing and roll, while the same real pockets drift 0–2°/stride (typically 1.6);
+    30–45° gives 1–3."""
+    thigh_twist_deg: tuple[float, float] = (8.5, 11.0)
+    """Range of the rotation's amplitude about the thigh (17–22° peak to peak,
+    real pockets), drawn per use."""
+    twist_lag_deg: tuple[float, float] = (0.0, 90.0)
+    """Range of its phase lag behind the pitch, drawn per use [E]."""
+    pelvic_list_deg: tuple[float, float] = (3.0, 5.0)
+    """Range of the pelvis's frontal-plane tilt amplitude (:data:`_PELVIC_LIST`:
+    ±3–5° in normal gait), drawn per use: it lifts and drops the hip joint that
+    carries the thigh by a few millimetres, quickly in each loading response [E]."""
+    top_down: bool | None = None
+    """Phone inserted top first; None draws it per use."""
+    screen_out: bool | None = None
+    """Screen facing away from the thigh; None draws it per use."""
+    pocket_yaw_deg: float | None = None
+    """How far round the thigh, from its front toward the outside, the pocket
+    and the phone lie; None draws it from 10–40° per use (a front pocket's
+    opening is on the front-outer face) [E]."""
+    slant_deg: float | None = None
+    """The phone's long axis against the thigh's, in the pocket's plane; None
+    draws it from ±(0–20°) per use [E]."""
+    wobble_hz: tuple[float, float] = (6.0, 10.0)
+    """Range of the natural frequency of the phone rocking on the pocket's hold
+    (cloth tension and the thigh's soft tissue), drawn per use [E]."""
+    wobble_damping: tuple[float, float] = (0.2, 0.4)
+    """Range of that rocking's damping ratio, drawn per use [E]."""
+    impact_mps2: tuple[float, float] = (13.5, 28.0)
+    """Range of the jolt along the thigh at the same-side heel strike, walking at
+    ``impact_speed_mps``. With the thigh's own motion the phone then reads
+    per-stride peaks of 3.1–3.2 g at 50 Hz near the usual pace (median over walks;
+    2.9 g for slow walkers at 1.1 m/s, 3.7 g for brisk ones at 1.5 m/s), as real
+    front pockets do (Oxford step-counter walks, 200–400 Hz: median 3.1 g;
+    thigh-worn accelerometers 2–5 g)."""
+    impact_speed_mps: float = 1.31
+    """Walking speed at which ``impact_mps2`` applies: the heel lands harder the
+    faster one walks, so each jolt scales with the speed at its heel strike (as the
+    trunk's does, :func:`~.motion.intra_step_motion`, within 0.3–1.3 times), like the
+    body's bounce, which grows with the step. 1.31 m/s is the usual pace (REALISM §5,
+    Murtagh et al. 2021)."""
+    impact_shear: tuple[float, float] = (0.3, 0.6)
+    """Range of the jolt across the thigh's front face, as a share of the jolt
+    along it: the braking at heel contact and the quadriceps' soft tissue
+    shaking under the phone [E]."""
+    impact_width_s: float = 0.028
+    """Width σ of that jolt: the thigh's soft tissue and the pocket's cloth spread it.
+    The pulse's power peaks at 1/(√2·π·σ) ≈ 8 Hz, where real front pockets put it:
+    the Oxford step-counter front-pocket walks, measured at 50 Hz, have 21–44 % of
+    ‖a‖'s power above the 8th stride harmonic (≈ 7.5 Hz) and only 2–7 % at twice
+    the step rate; a 35 ms pulse (peak 6.4 Hz) put 11–16 % there [D]."""
+    light_exposure_range: tuple[float, float] = (0.001, 0.005)
+    """Range of the fabric's light transmission, drawn per use."""
+
+    def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
+        which = self.side if self.side is not None else ("left", "right")[int(rng.random() < 0.5)]
+        h, side = body.height_m, _side(which)
+        # The pelvis counter-rotates against the trunk at stride frequency.
+        pelvis = limbs.body_frame(2.0 * body.heading - body.yaw)
+        env = body.gait_envelope
+        swing = math.radians(
+            self.thigh_swing_deg if self.thigh_swing_deg is not None else rng.uniform(18, 23)
+        )
+        # The leg's own gait cycle: 0 at its heel strike (stride phase 0 is the left one).
+        own = np.mod(body.stride_phase - (0.5 if side < 0 else 0.0), 1.0)
+        alpha = env * (math.radians(self.thigh_mean_deg) + swing * _HIP_FLEXION(own))
+        # Ab-/adduction and rotation about the thigh go through the cycle as quickly
+        # as flexion does (fast in swing), each a drawn fraction of a cycle behind it.
+        roll_lag, twist_lag = (
+            rng.uniform(*r) / 360.0 for r in (self.roll_lag_deg, self.twist_lag_deg)
+        )
+        roll_amp, twist_amp = (
+            math.radians(rng.uniform(*r)) for r in (self.thigh_roll_deg, self.thigh_twist_deg)
+        )
+        roll = env * side * roll_amp * _HIP_FLEXION(np.mod(own - roll_lag, 1.0))
+        twist = env * side * twist_amp * _HIP_FLEXION(np.mod(own - twist_lag, 1.0))
+        hip = np.array([0.0, _HIP_HALF_WIDTH * h * side, (_HIP_H - PELVIS_HEIGHT_RATIO) * h])
+        same_side = body.steps.foot.to_numpy() == ("R" if side < 0 else "L")
+        t_hs = body.steps.t.to_numpy()[same_side]
+        pace = np.interp(t_hs, body.t, body.speed) / self.impact_speed_mps
+        peaks = rng.uniform(*self.impact_mps2, len(t_hs)) * np.clip(pace, 0.3, 1.3)
+        jolt = impulse_displacement(body.t, t_hs, peaks, self.impact_width_s)
+        pocket_yaw = math.radians(
+            self.pocket_yaw_deg if self.pocket_yaw_deg is not None else rng.uniform(10, 40)
+        )
+        # Round the thigh toward the outside (+y on the left leg), and with its twist.
+        around = side * pocket_yaw + twist
+        shear = rng.uniform(*self.impact_shear)
+        local = np.empty((len(alpha), 3))
+        _pocket_offset(
+            np.sin(alpha), np.cos(alpha), np.sin(around), np.cos(around), jolt, shear, local
+        )
+        # The hip joint rides on the pelvis, which tilts sideways with its list (the
+        # loaded side up); the thigh hangs from it in its own frontal-plane angle.
+        tilt = env * side * math.radians(rng.uniform(*self.pelvic_list_deg)) * _PELVIC_LIST(own)
+        rigid_pos = (
+            body.pos
+            + limbs.apply(limbs.compose(pelvis, limbs.about("x", tilt)), hip)
+            + limbs.apply(limbs.compose(pelvis, limbs.about("x", roll)), local)
+        )
+
+        top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)
+        screen_out = self.screen_out if self.screen_out is not None else bool(rng.random() < 0.5)
+        slant = math.radians(
+            self.slant_deg
+            if self.slant_deg is not None
+            else rng.choice((-1.0, 1.0)) * rng.uniform(0.0, 20.0)
+        )
+        # Standing, top down, screen out: x right, y down, z forward.
+        base = limbs.from_axes([0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0])
+        placement = limbs.compose(
+            limbs.about("y", -side * pocket_yaw),  # base y is down the thigh
+            limbs.about("z", slant),
+            limbs.about("y", 0.0 if screen_out else np.pi),
+            limbs.about("z", 0.0 if top_down else np.pi),
+        )
+        rigid = limbs.compose(
+            pelvis,
+            limbs.about("x", roll),
+            limbs.about("y", -alpha),
+            limbs.about("z", twist),
+            base,
+            placement,
+        )
+        wobble, shift = self._wobble(body, rigid_pos, rigid, top_down, screen_out, rng)
+        pos = rigid_pos + limbs.apply(rigid, shift)
+        rot = limbs.compose(rigid, wobble)
+        light = np.full(len(body.t), rng.uniform(*self.light_exposure_range))
+        return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=light)
+
+    def _wobble(
+        self,
+        body: BodyTrajectory,
+        pos: NDArray[np.float64],
+        rot: limbs.Quat,
+        top_down: bool,
+        screen_out: bool,
+        rng: np.random.Generator,
+    ) -> tuple[limbs.Quat, NDArray[np.float64]]:
+        """The phone's rocking on the pocket's hold, and its centre's shift with it.
+
+        In the phone's frame the hold is at its deep end, its centre of mass r =
+        (0, ∓L/2, ±d) from there. Relative to the rigidly carried phone (specific
+        force f at its centre, angular acceleration α), the torque about the hold
+        per unit mass is −r × f − (I_c/m)·α: the inertial load on the centre of
+        mass, and the phone's own inertia I_c about its centre as the thigh turns
+        under it (a hinged body in an accelerating, turning frame; the r × (α × r)
+        part of the second term is already in f). Each axis is a damped spring
+        of inertia I = I_c + m·(|r|² − r_i²) about the hold: ≈ m·L²/3 away from
+        the thigh (x), m·(L²/3 + W²/12) in the phone's plane (z), and m·(W²/12 +
+        d²) about its long axis (y) — the thigh's front is rounded, so the phone
+        rolls on it, held only by the cloth's tension, not stopped by it [E].
+        Returns the rotation and the centre's displacement (R(θ) − 1)·r, both in
+        the phone's frame.
+        """
+        f = limbs.acceleration(pos, body.t)
+        f[:, 2] += _G
+        f_phone = quat_ops.rotate(rot, f, inverse=True)
+        half = _PHONE_LENGTH_M / 2.0
+        r = np.array(
+            [0.0, -half if top_down else half, _POCKET_LEVER_M if screen_out else -_POCKET_LEVER_M]
+        )
+        # The rigid phone's angular velocity and acceleration, in its own frame.
+        omega = np.empty_like(f)
+        omega[1:] = quat_ops.relative_rotvec(rot[:-1], rot[1:]) * body.rate_hz
+        omega[0] = omega[1]
+        alpha = np.gradient(omega, body.t, axis=0)
+        # Per unit mass: the plate's inertia about its centre, and about the hold.
+        length2, width2 = _PHONE_LENGTH_M**2, _PHONE_WIDTH_M**2
+        centre = np.array([length2, width2, length2 + width2]) / 12.0
+        hold = centre + (r @ r - r**2)
+        torque = -np.cross(r, f_phone) - centre * alpha
+        natural, damping = rng.uniform(*self.wobble_hz), rng.uniform(*self.wobble_damping)
+        theta = limbs.oscillator(torque / hold, natural, damping, body.rate_hz)
+        wobble = limbs.from_rotvec(theta)
+        shift = limbs.apply(wobble, np.broadcast_to(r, theta.shape)) - r
+        return wobble, shift
