@@ -428,8 +428,9 @@ def write_readme(out: Path, tables: dict[str, pd.DataFrame]) -> None:
         report = out / f"{paper}.md"
         if report.is_file():
             parts += [report.read_text().rstrip(), ""]
-    if (out / "robustness.md").is_file():
-        crashes = (out / "robustness.md").read_text().split("**Crashes: ", 1)[-1].split("**")[0]
+    if (out / "robustness.csv").is_file():
+        cells = pd.read_csv(out / "robustness.csv")
+        crashes = int((cells["crashed_seeds"].fillna(0) > 0).sum())
         parts += [
             "## Robustness",
             "",

@@ -385,9 +385,15 @@ def write_robustness(
         "",
         "![heat map](robustness.png)",
     ]
-    for mode in modes:
-        ratios = ratio_matrix(table, mode)
-        clean = cells[cells["mode"] == mode].groupby("estimator", sort=False)["ae_clean"].first()
+    # Per mode: the ratio matrix and each estimator's fault-free error, for the tables and plot.
+    panels = {
+        mode: (
+            ratio_matrix(table, mode),
+            cells[cells["mode"] == mode].groupby("estimator", sort=False)["ae_clean"].first(),
+        )
+        for mode in modes
+    }
+    for mode, (ratios, clean) in panels.items():
         lines += ["", f"## {mode}: error ratio (mean error under the fault / fault-free)", ""]
         head = ["estimator", "clean AE (m)", *ratios.columns]
         lines += ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -426,12 +432,5 @@ def write_robustness(
     if elapsed_s is not None:
         lines += ["", f"Regenerated in {elapsed_s:.0f} s."]
     (out / "robustness.md").write_text("\n".join(lines) + "\n")
-    panels = {
-        mode: (
-            ratio_matrix(table, mode),
-            cells[cells["mode"] == mode].groupby("estimator", sort=False)["ae_clean"].first(),
-        )
-        for mode in modes
-    }
     fig = plot_robustness(panels)
     fig.savefig(out / "robustness.png", dpi=120, bbox_inches="tight")
