@@ -175,8 +175,10 @@ QUOTED_RANGES: dict[tuple[str, str], tuple[float, float]] = {
     (RADIO_MODE, "aps_per_scan"): (14.0, 28.0),
     (RADIO_MODE, "scan_interval"): (2.0, 4.0),
     # Its light rows: real handheld logs on lit floors (a lit ground floor for the dark
-    # share). The median depends on the building (corridors 50–300 lx, basements
-    # 9–18 lx), so it is shown, not judged.
+    # share). The median depends on the building: corridors and offices 50–300 lx,
+    # basements 9–18 lx (each judged on its kinds of building only).
+    (LIGHT_MODE, "lux_median"): (50.0, 300.0),
+    (LIGHT_MODE, "lux_median_car_park"): (9.0, 18.0),
     (LIGHT_MODE, "lux_ratio"): (13.0, 95.0),
     (LIGHT_MODE, "dark_share"): (0.29, 0.37),
     (LIGHT_MODE, "dlog_std"): (0.08, 0.14),

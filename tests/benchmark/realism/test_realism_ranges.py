@@ -111,7 +111,7 @@ def _case(mode: str, key: str):
 _ENVIRONMENT = (
     [(MAGNETIC_MODE, key) for key in COMPARED_MAGNETIC]
     + [(RADIO_MODE, key) for key in COMPARED_RADIO]
-    + [(LIGHT_MODE, key) for key in COMPARED_LIGHT if key != "lux_median"]  # shown, not judged
+    + [(LIGHT_MODE, key) for key in COMPARED_LIGHT]
 )
 
 
