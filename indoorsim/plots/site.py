@@ -246,19 +246,23 @@ def _marker_handle(label: str, colour: str, *, markersize: float = 9.0, **kw: ob
 def _draw_sources(ax: Axes, site: Site) -> list[Artist]:
     handles: list[Artist] = []
     scenario = site.scenario
-    if scenario.luminaires:
-        xy = np.array([lum.position[:2] for lum in scenario.luminaires])
+    for lit, label in ((True, "luminaire"), (False, "luminaire, off")):
+        xy = np.array([lum.position[:2] for lum in scenario.luminaires if lum.lit is lit]).reshape(
+            -1, 2
+        )
+        if not len(xy):
+            continue
         handles.append(
             ax.scatter(
                 xy[:, 0],
                 xy[:, 1],
                 s=100,
                 marker="*",
-                facecolor=LIGHT_COLOUR,
+                facecolor=LIGHT_COLOUR if lit else "none",
                 edgecolor="#8a6d00",
                 linewidth=0.7,
                 zorder=4,
-                label="luminaire",
+                label=label,
             )
         )
     groups = _dipole_groups(site)

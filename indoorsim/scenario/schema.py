@@ -284,6 +284,9 @@ class LuminaireSpec(_Spec):
     the photometry is the point source's."""
     along: Vec3 = (1.0, 0.0, 0.0)
     """Direction of the face's length (a tube's axis)."""
+    lit: bool = True
+    """Whether it is switched on. An unlit luminaire (switched off, failed, or in a
+    zone switched down) gives no light, direct or reflected; it stays in the plan."""
 
     @field_validator("axis", "along")
     @classmethod

@@ -53,7 +53,8 @@ __all__ = ["Calling", "Dangling", "Handheld", "Pocketed"]
 _G = 9.81
 # Segment heights and lengths as fractions of body height (Drillis & Contini
 # anthropometric ratios, as commonly tabulated) [E].
-_SHOULDER_H, _EAR_H, _CHEST_H, _HIP_H = 0.818, 0.90, 0.70, 0.50
+_SHOULDER_H, _EAR_H, _EYE_H, _HIP_H = 0.818, 0.90, 0.936, 0.50
+_EYE_FORWARD = 0.07  # the eyes ahead of the trunk's axis, the head bent over a phone [E]
 _ARM_LENGTH = 0.386  # shoulder to the middle of the grip
 _SHOULDER_HALF_WIDTH = 0.115
 _HIP_HALF_WIDTH = 0.055
@@ -153,6 +154,14 @@ class Handheld(CarryMode):
     pitch_deg: float = 30.0
     """Screen tilt toward the eyes: 0 is flat and steady (Han2023's experiments),
     20–45° is texting or browsing."""
+    reading_distance_m: tuple[float, float] = (0.30, 0.40)
+    """Range of the distance from the eyes at which the phone is held, drawn per use:
+    phones are read at 32–36 cm on average (Bababekova et al. 2011, Optom. Vis. Sci.
+    88:795: web pages 32.2 cm, text messages 36.2 cm)."""
+    gaze_down_deg: tuple[float, float] = (50.0, 65.0)
+    """Range of the line of gaze's angle below the horizontal, drawn per use: the head
+    flexes 31–39° over a phone (REALISM §6.1) and the eyes look a further 15–25°
+    down in their orbits [E]. The phone rests at the reading distance along it."""
     misalignment_deg: float = 5.0
     """SD of the phone's yaw relative to the walking direction, drawn per use
     (≈ 0 ± 10°)."""
@@ -196,8 +205,17 @@ class Handheld(CarryMode):
 
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, rate = body.height_m, body.rate_hz
-        # The phone's rest place: in front of the chest, a little toward the holding hand.
-        rest = np.array([0.13 * h, 0.02 * _side(self.hand), (_CHEST_H - PELVIS_HEIGHT_RATIO) * h])
+        # The phone's rest place: where the eyes look down at it, a reading distance
+        # away, a little toward the holding hand.
+        reach = rng.uniform(*self.reading_distance_m)
+        gaze = math.radians(rng.uniform(*self.gaze_down_deg))
+        rest = np.array(
+            [
+                _EYE_FORWARD * h + reach * math.cos(gaze),
+                0.02 * _side(self.hand),
+                (_EYE_H - PELVIS_HEIGHT_RATIO) * h - reach * math.sin(gaze),
+            ]
+        )
         rise, inward = math.radians(self.forearm_rise_deg), math.radians(self.forearm_inward_deg)
         side = _side(self.hand)
         level = np.array([math.cos(inward), -side * math.sin(inward), 0.0])

@@ -753,7 +753,7 @@ class LightModel:
     def __init__(self, scenario: Scenario, plan: FloorPlan):
         self.plan = plan
         self.ceiling_height = scenario.site.ceiling_height
-        lums = scenario.luminaires
+        lums = [lum for lum in scenario.luminaires if lum.lit]
         luminaires = PointSources.from_arrays(
             np.array([lum.position for lum in lums], dtype=float).reshape(-1, 3),
             np.array([lum.axis for lum in lums], dtype=float).reshape(-1, 3),

@@ -250,6 +250,19 @@ def test_ambient_leaks_through_an_open_door_by_the_aperture_flux():
 WINDOW = {"from": [3.5, 0.0], "to": [6.5, 0.0], "sill": 0.9, "head": 2.1}
 
 
+def test_an_unlit_luminaire_gives_no_light_direct_or_reflected():
+    lamps = [_lamp((3, 3, 2.9)), _lamp((7, 5, 2.9), intensity_cd=800.0)]
+    off = {**lamps[1], "lit": False}
+    with_off = _model(_box(10, 8, luminaires=[lamps[0], off]))
+    without = _model(_box(10, 8, luminaires=[lamps[0]]))
+    grid = np.array([(x, y, 1.2) for x in (1.0, 5.0, 7.0) for y in (2.0, 5.0)])
+    np.testing.assert_array_equal(
+        with_off.illuminance(grid, [0, 0, 1]), without.illuminance(grid, [0, 0, 1])
+    )
+    both = _model(_box(10, 8, luminaires=lamps)).illuminance(grid, [0, 0, 1])
+    assert (both > without.illuminance(grid, [0, 0, 1])).all()
+
+
 def test_daylight_is_off_by_default():
     model = _model(_box(10, 6, windows=[WINDOW]))
     assert len(model.sources) == model.n_luminaires == 0

@@ -373,10 +373,16 @@ class Draft:
         )
 
     def light(
-        self, x: float, y: float, fixture: Fixture, along: tuple[float, float] = (1.0, 0.0)
+        self,
+        x: float,
+        y: float,
+        fixture: Fixture,
+        along: tuple[float, float] = (1.0, 0.0),
+        *,
+        lit: bool = True,
     ) -> None:
         """A ceiling luminaire of ``fixture`` at (x, y), its length along ``along``,
-        unless a pillar stands there."""
+        switched on unless ``lit`` is False, unless a pillar stands there."""
         if not self.clear_of_pillars(x, y, 0.2):
             return
         self.luminaires.append(
@@ -386,6 +392,7 @@ class Draft:
                 "exponent": fixture[1],
                 "size": list(fixture[2]),
                 "along": [mm(along[0]), mm(along[1]), 0.0],
+                "lit": lit,
             }
         )
 
@@ -395,14 +402,18 @@ class Draft:
         b: tuple[float, float],
         spacing: float,
         fixture: Fixture,
+        *,
+        lit_every: int = 1,
     ) -> None:
-        """Evenly spaced lights along a→b, half a spacing in from each end, lying along it."""
+        """Evenly spaced lights along a→b, half a spacing in from each end, lying along it;
+        every ``lit_every``-th one switched on (from the second, when 2), the rest off."""
         length = math.dist(a, b)
         n = max(1, round(length / spacing))
         along = ((b[0] - a[0]) / length, (b[1] - a[1]) / length) if length > 0 else (1.0, 0.0)
         for i in range(n):
             t = (i + 0.5) / n
-            self.light(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), fixture, along)
+            lit = (i + 1) % lit_every == 0 or n == 1
+            self.light(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), fixture, along, lit=lit)
 
     def light_grid(self, cell: Cell, spacing: float, fixture: Fixture) -> None:
         """Lights on a grid of about ``spacing`` over ``cell``, half a step in from its edges."""
