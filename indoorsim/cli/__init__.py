@@ -16,6 +16,9 @@
         --export tum --out results/cpf                    # options; TUM files for evo
     indoorsim leaderboard --quick --out leaderboards/
     indoorsim realism --out leaderboards/                 # simulated motion beside real phones
+    indoorsim calibrate trace.txt --out twin.yaml         # a phone and walker fitted to a log
+    indoorsim simulate minimal_room --mode handheld --device twin.yaml --walker twin.yaml \
+        --seed 0 --out walks/twin                         # ... and its simulated twin
     indoorsim dataset --sites 20 --walks-per-site 8 --minutes 10 --seed 0 \\
         --workers 2 --out data/          # labelled Parquet shards on Dask (resumable)
     indoorsim train --data data/ --out checkpoints/io --epochs 15   # the learned-io network
@@ -25,7 +28,7 @@ One module per command group: :mod:`~indoorsim.cli.scenarios`,
 :mod:`~indoorsim.cli.estimators`,
 :mod:`~indoorsim.cli.plot` (``plot site``, ``plot recording``),
 :mod:`~indoorsim.cli.evaluate` (``evaluate``, ``leaderboard``),
-:mod:`~indoorsim.cli.realism` and
+:mod:`~indoorsim.cli.realism` (``realism``, ``calibrate``) and
 :mod:`~indoorsim.cli.dataset` (``dataset``, ``train``); what they share
 (argument types, name and folder checks, the progress spinner,
 :class:`~indoorsim.cli.args.CliError`) is in :mod:`~indoorsim.cli.args`. Each
@@ -63,7 +66,7 @@ from indoorsim.cli.dataset import add_dataset, add_train
 from indoorsim.cli.estimators import add_estimators
 from indoorsim.cli.evaluate import add_evaluate, add_leaderboard
 from indoorsim.cli.plot import add_plot
-from indoorsim.cli.realism import add_realism
+from indoorsim.cli.realism import add_calibrate, add_realism
 from indoorsim.cli.scenarios import add_scenarios
 from indoorsim.cli.simulate import add_simulate, add_survey
 from indoorsim.scenario.schema import ScenarioError
@@ -82,6 +85,7 @@ _COMMANDS: tuple[Callable[[Subparsers], None], ...] = (
     add_evaluate,
     add_leaderboard,
     add_realism,
+    add_calibrate,
     add_dataset,
     add_train,
     add_plot,

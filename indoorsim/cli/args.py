@@ -118,12 +118,13 @@ def check_out(out: Path, *, overwrite: bool, what: str) -> None:
 
 
 def device_profile(name: str) -> DeviceProfile:
-    """The device profile called ``name``; the error lists the valid names."""
-    from indoorsim.phone.devices import UnknownDeviceError, get_device
+    """The device profile called ``name``, or in the YAML file ``name``; the error lists
+    the valid names, or says what is wrong with the file."""
+    from indoorsim.phone.devices import DeviceFileError, UnknownDeviceError, get_device
 
     try:
         return get_device(name)
-    except UnknownDeviceError as err:
+    except (UnknownDeviceError, DeviceFileError) as err:
         raise CliError(str(err)) from None
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from indoorsim.cli.args import (
@@ -25,7 +26,7 @@ from indoorsim.cli.args import (
 if TYPE_CHECKING:
     from indoorsim.cli.args import Subparsers
 
-__all__ = ["add_realism"]
+__all__ = ["add_calibrate", "add_realism"]
 
 
 def add_realism(subparsers: Subparsers) -> None:
@@ -96,4 +97,83 @@ def _run_realism(args: argparse.Namespace) -> int:
     inside = int((judged["sites_inside"] == judged["sites"]).sum())
     print(f"{inside} of {len(judged)} statistics inside their real range on every site")
     print(f"wrote {args.out}/realism.md")
+    return 0
+
+
+def add_calibrate(subparsers: Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "calibrate",
+        help="fit a device profile and a walker to a recording (a digital twin)",
+        description="Fit a device profile (rates, timestamp jitter and gaps, white noise "
+        "from the still parts, gyro bias, light reporting, WiFi scan interval and "
+        "threshold) and walker parameters (step rate, speed and step length from the "
+        "waypoints, height, standing time) to a real or simulated recording. Writes YAML "
+        "with device: and walker: sections, which --device FILE and --walker FILE of "
+        "simulate read; figures a recording cannot show come from --base.",
+    )
+    parser.add_argument(
+        "recording",
+        type=Path,
+        metavar="RECORDING",
+        help="a recording folder or a real log (any format indoorsim reads)",
+    )
+    parser.add_argument("--out", type=Path, required=True, metavar="FILE", help="YAML to write")
+    parser.add_argument(
+        "--name", default=None, metavar="NAME", help="the profile's name (default: the file's)"
+    )
+    parser.add_argument(
+        "--base",
+        default="mid_grade",
+        metavar="DEVICE",
+        help="profile whose figures stand where the recording shows nothing (default mid_grade)",
+    )
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing --out")
+    parser.set_defaults(handler=_run_calibrate)
+
+
+def _run_calibrate(args: argparse.Namespace) -> int:
+    import time
+
+    from indoorsim.benchmark.realism.calibrate import (
+        CalibrationError,
+        calibrate,
+        write_calibration,
+    )
+    from indoorsim.io.recording import Recording, RecordingError
+
+    if args.out.exists() and not args.overwrite:
+        raise CliError(f"--out {args.out}: exists; pass --overwrite to replace it")
+    if args.out.suffix not in (".yaml", ".yml"):
+        raise CliError(f"--out {args.out}: must end in .yaml or .yml (--device reads those)")
+    base = device_profile(args.base)
+    start = time.perf_counter()
+    try:
+        rec = Recording.load(args.recording)
+    except (RecordingError, OSError) as err:
+        raise CliError(f"{args.recording}: {err}") from None
+    try:
+        cal = calibrate(rec, name=args.name or args.out.stem, base=base)
+    except CalibrationError as err:
+        raise CliError(f"{args.recording}: {err}") from None
+    write_calibration(cal, args.out)
+    elapsed = time.perf_counter() - start
+    m = cal.measured
+    lines = [f"wrote {args.out} in {elapsed:.2f} s"]
+    for key in (
+        "accel.rate_hz",
+        "accel.noise_density",
+        "gyro.noise_density",
+        "mag.noise_sigma_uT",
+        "timestamp_jitter_frac",
+        "step_rate_hz",
+        "speed_mps",
+        "step_length_m",
+        "height_m",
+        "still_s",
+    ):
+        if key in m:
+            lines.append(f"  {key}: {m[key]:.4g}")
+    for key, why in cal.not_measured.items():
+        lines.append(f"  not measured: {key} ({why})")
+    print("\n".join(lines))
     return 0

@@ -84,6 +84,13 @@ def add_simulate(subparsers: Subparsers) -> None:
         "--seed", type=seed_number, required=True, metavar="N", help="seed of the run (>= 0)"
     )
     parser.add_argument(
+        "--walker",
+        type=Path,
+        metavar="FILE",
+        help="the walker's parameters: a YAML file, such as `indoorsim calibrate` writes "
+        "(default: an average adult)",
+    )
+    parser.add_argument(
         "--out", type=Path, required=True, metavar="DIR", help="the recording folder to write"
     )
     parser.add_argument(
@@ -104,10 +111,20 @@ def _run_simulate(args: argparse.Namespace) -> int:
     site = load_site(args.scenario)
     mode = mode_schedule(args.mode)
     device = device_profile(args.device)
+    walker = None
+    if args.walker is not None:
+        from indoorsim.benchmark.realism.calibrate import CalibrationError, load_walker
+
+        try:
+            walker = load_walker(args.walker)
+        except CalibrationError as err:
+            raise CliError(f"--walker {err}") from None
     route = route_or_first(site, args.route)  # last: it says which route when defaulting
     try:
         with working(f"simulating {site.name}, route {route}"):
-            rec = simulate(site, route=route, mode=mode, device=device, seed=args.seed)
+            rec = simulate(
+                site, route=route, mode=mode, device=device, seed=args.seed, walker=walker
+            )
     except RouteError as err:
         raise CliError(f"--route {route}: {err}") from None
     except ScheduleError as err:

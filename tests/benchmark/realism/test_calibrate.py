@@ -1,0 +1,155 @@
+"""Calibration: a profile and a walker fitted to a recording recover the ones that made it."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from indoorsim.benchmark.realism.calibrate import (
+    CalibrationError,
+    calibrate,
+    load_walker,
+    stream_timing,
+    white_noise_density,
+    write_calibration,
+)
+from indoorsim.io.recording import Recording
+from indoorsim.phone.devices import DeviceFileError, get_device
+from indoorsim.phone.sensors import apply_inertial, apply_magnetometer, sample_times
+from indoorsim.phone.specs import InertialSpec, MagnetometerSpec
+from indoorsim.scenario.load import load_site
+from indoorsim.simulate import simulate
+from indoorsim.walker.gait import WalkerParams
+
+
+def _xyz(t: np.ndarray, values: np.ndarray) -> pd.DataFrame:
+    return pd.DataFrame(values, columns=["x", "y", "z"], index=pd.Index(t, name="t"))
+
+
+def _phone_at_rest(seconds: float, seed: int = 0) -> tuple[Recording, InertialSpec, InertialSpec]:
+    """A phone lying still, through the simulator's own sensor models with known errors."""
+    rng = np.random.default_rng(seed)
+    accel = InertialSpec(rate_hz=100.0, noise_density=0.002, turn_on_bias_sigma=0.0)
+    gyro = InertialSpec(rate_hz=100.0, noise_density=2e-4, turn_on_bias_sigma=0.004)
+    mag = MagnetometerSpec(rate_hz=50.0, noise_sigma_uT=0.4)
+    t = sample_times(seconds, 100.0, 0.02, rng, gap_probability=1e-3)
+    t_mag = sample_times(seconds, 50.0, 0.0, rng)
+    gravity = np.tile([0.0, 0.0, 9.81], (len(t), 1))
+    streams = {
+        "accel": _xyz(t, apply_inertial(gravity, t, accel, rng)),
+        "gyro": _xyz(t, apply_inertial(np.zeros((len(t), 3)), t, gyro, rng)),
+        "mag": _xyz(
+            t_mag, apply_magnetometer(np.tile([20.0, 5.0, -40.0], (len(t_mag), 1)), t_mag, mag, rng)
+        ),
+    }
+    return Recording._from_built(streams, {"source": "test"}), accel, gyro
+
+
+def test_white_noise_density_reads_n_from_samples_of_known_density():
+    rng = np.random.default_rng(1)
+    rate, density = 200.0, 0.003
+    runs = [rng.normal(0.0, density * math.sqrt(rate), (2000, 3)) for _ in range(3)]
+    n, mean = white_noise_density(runs, rate)
+    assert n == pytest.approx(density, rel=0.05)
+    np.testing.assert_allclose(mean, 0.0, atol=5 * density)
+
+
+def test_stream_timing_recovers_rate_jitter_and_gaps():
+    rng = np.random.default_rng(2)
+    t = sample_times(600.0, 50.0, 0.02, rng, gap_probability=2e-3)
+    rate, jitter, gaps = stream_timing(t)
+    assert rate == pytest.approx(50.0, rel=1e-3)
+    assert jitter == pytest.approx(0.02, rel=0.1)
+    assert gaps == pytest.approx(2e-3, rel=0.35)
+
+
+def test_a_phone_at_rest_gives_back_its_noise_bias_and_timing():
+    rec, accel, gyro = _phone_at_rest(120.0)
+    cal = calibrate(rec)
+    assert cal.measured["still_s"] > 110
+    assert cal.device.accel.rate_hz == pytest.approx(100.0, rel=1e-3)
+    assert cal.device.mag.rate_hz == pytest.approx(50.0, rel=1e-3)
+    assert cal.device.timestamp_jitter_frac == pytest.approx(0.02, rel=0.1)
+    assert cal.device.accel.noise_density == pytest.approx(accel.noise_density, rel=0.1)
+    assert cal.device.gyro.noise_density == pytest.approx(gyro.noise_density, rel=0.1)
+    assert cal.device.mag.noise_sigma_uT == pytest.approx(0.4, rel=0.1)
+    # The one turn-on bias this phone drew, measured to its noise over two minutes.
+    bias = np.array([cal.measured[f"gyro.bias_{a}"] for a in "xyz"])
+    assert np.abs(bias).max() < 4 * 0.004 and np.abs(bias).max() > 1e-4
+    assert "walker" in cal.not_measured
+
+
+@pytest.fixture(scope="module")
+def walked() -> tuple[Recording, WalkerParams]:
+    walker = WalkerParams(height_m=1.85, speed_mps=1.1)
+    rec = simulate(
+        load_site("han2023_corridor"),
+        route="trajectory",
+        mode="handheld",
+        device="nexus_5x",
+        seed=3,
+        walker=walker,
+    )
+    # Waypoints as a real survey marks them: the walker's position every 5 s.
+    truth = rec.truth
+    t = truth.index.to_numpy(dtype=float)
+    at = np.searchsorted(t, np.arange(t[0] + 3.0, t[-1] - 3.0, 5.0))
+    waypoints = pd.DataFrame(
+        {"x": truth["body_x"].to_numpy()[at], "y": truth["body_y"].to_numpy()[at]},
+        index=pd.Index(t[at], name="t"),
+    )
+    return Recording._from_built({**rec.streams, "waypoints": waypoints}, rec.meta), walker
+
+
+def test_a_simulated_walk_gives_back_its_walker_rates_and_radio(walked):
+    rec, walker = walked
+    cal = calibrate(rec)
+    nexus = get_device("nexus_5x")
+    assert cal.walker.height_m == pytest.approx(walker.height_m, rel=0.03)
+    # The mean walking speed: the cruising speed less the turns and the starts.
+    assert 0.9 * walker.speed_mps < cal.walker.speed_mps <= walker.speed_mps
+    assert cal.device.accel.rate_hz == pytest.approx(nexus.accel.rate_hz, rel=1e-3)
+    assert cal.device.timestamp_jitter_frac == pytest.approx(nexus.timestamp_jitter_frac, rel=0.15)
+    assert cal.device.mag.noise_sigma_uT == pytest.approx(nexus.mag.noise_sigma_uT, rel=0.15)
+    assert cal.device.wifi.scan_interval_s == pytest.approx(nexus.wifi.scan_interval_s, rel=0.05)
+    assert cal.device.wifi.detection_threshold_dbm >= nexus.wifi.detection_threshold_dbm
+    assert cal.device.light.on_change and cal.device.light.resolution_lux == 1.0
+    assert cal.device.light.max_event_rate_hz <= nexus.light.max_event_rate_hz * 1.05
+    # A held phone's still parts carry the hand's tremor: the noise is a bound from above.
+    assert cal.device.accel.noise_density >= nexus.accel.noise_density
+
+
+def test_the_written_calibration_drives_simulate_and_round_trips(walked, tmp_path):
+    rec, _ = walked
+    cal = calibrate(rec, name="twin")
+    path = write_calibration(cal, tmp_path / "twin.yaml")
+    assert get_device(str(path)) == cal.device
+    assert load_walker(path) == cal.walker
+    twin = simulate(
+        load_site("minimal_room"),
+        route=next(iter(load_site("minimal_room").scenario.routes)),
+        device=get_device(str(path)),
+        walker=load_walker(path),
+        seed=0,
+    )
+    assert twin.meta["device"] == "twin"
+
+
+def test_bad_inputs_are_named():
+    with pytest.raises(CalibrationError, match="accelerometer"):
+        calibrate(Recording._from_built({}, {}))
+    with pytest.raises(DeviceFileError, match="cannot read"):
+        get_device("/nonexistent/phone.yaml")
+
+
+def test_a_device_file_with_an_unknown_field_is_refused(tmp_path):
+    path = tmp_path / "phone.yaml"
+    path.write_text("name: p\naccel: {rate_hz: 100, noise: 0.1}\n")
+    with pytest.raises(DeviceFileError, match=r"accel: unknown field\(s\) \['noise'\]"):
+        get_device(str(path))
+    path.write_text("name: p\naccel: {rate_hz: -1}\n")
+    with pytest.raises(DeviceFileError, match="rate_hz must be > 0"):
+        get_device(str(path))
