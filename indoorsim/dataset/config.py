@@ -137,7 +137,8 @@ class DatasetConfig(_Strict):
     min_mode_s: Annotated[float, Field(ge=5, le=3600)] = 15.0
     """Shortest stretch in one carrying mode, s (a change itself takes 1.5 s)."""
     devices: Annotated[list[str], Field(min_length=1)] = list(DEFAULT_DEVICES)
-    """Device profiles, one drawn per walk."""
+    """Device profiles, one drawn per walk: names, or YAML files such as ``indoorsim
+    calibrate`` writes (paths relative to the working directory)."""
     imu_rate_hz: Annotated[float, Field(ge=20, le=1000)] = 100.0
     """Accelerometer and gyroscope rate; every device's profile is set to it
     (magnetometer, light and WiFi keep the profile's own rates)."""
@@ -200,7 +201,12 @@ class DatasetConfig(_Strict):
             DatasetConfigError: an unknown scenario, kind, mode or device name,
                 with the key and the valid names.
         """
-        from indoorsim.phone.devices import UnknownDeviceError, available_devices
+        from indoorsim.phone.devices import (
+            DeviceFileError,
+            UnknownDeviceError,
+            available_devices,
+            get_device,
+        )
         from indoorsim.scenario.generate import KINDS, UnknownKindError
         from indoorsim.scenario.load import UnknownScenarioError, bundled_scenarios
         from indoorsim.walker.modes import UnknownModeError, available_modes, mode_fields
@@ -216,7 +222,13 @@ class DatasetConfig(_Strict):
         )
         for key, names, valid, unknown in checks:
             for i, name in enumerate(names):
-                if name not in valid:
+                if key == "devices" and name.endswith((".yaml", ".yml")):
+                    # A profile file, as `indoorsim calibrate` writes: it must load.
+                    try:
+                        get_device(name)
+                    except DeviceFileError as err:
+                        problems.append((f"{key}[{i}]", str(err)))
+                elif name not in valid:
                     problems.append((f"{key}[{i}]", str(unknown(name, valid))))
         modes = available_modes()
         for mode, params in self.mode_params.items():

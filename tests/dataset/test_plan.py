@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import pytest
+import yaml
 
 from indoorsim.dataset import DatasetConfig, DatasetConfigError, make_plan
+from indoorsim.phone.devices import device_to_dict, get_device
 
 BASE = {"sites": 2, "walks_per_site": 3, "bundled_share": 0.0, "mode_changes_per_minute": 2.0}
 
@@ -51,3 +53,16 @@ def test_a_config_fixes_a_mode_parameter_without_moving_any_other_draw():
 def test_unknown_modes_and_parameters_are_named_by_key(mode_params, message):
     with pytest.raises(DatasetConfigError, match=message):
         DatasetConfig(**(BASE | {"mode_params": mode_params})).resolved()
+
+
+def test_a_device_file_is_drawn_like_a_named_profile_and_a_broken_one_is_named(tmp_path):
+    twin = tmp_path / "twin.yaml"
+    twin.write_text(
+        yaml.safe_dump({"device": device_to_dict(get_device("honor_50")) | {"name": "twin"}})
+    )
+    plan = _plan(devices=[str(twin)])
+    assert {walk.device for walk in plan.walks} == {str(twin)}
+    broken = tmp_path / "broken.yaml"
+    broken.write_text("name: b\naccel: {rate_hz: 0}\n")
+    with pytest.raises(DatasetConfigError, match=r"devices\[1\]: .*rate_hz must be > 0"):
+        _plan(devices=[str(twin), str(broken)])
