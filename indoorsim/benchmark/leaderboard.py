@@ -35,6 +35,7 @@ from indoorsim.benchmark.evaluation import (
 from indoorsim.benchmark.realism.report import RealismConfig, run_realism
 from indoorsim.benchmark.results_site import write_site
 from indoorsim.benchmark.robustness import RobustnessConfig, run_robustness, write_robustness
+from indoorsim.benchmark.sim_to_real import write_sim_to_real
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
 from indoorsim.util.provenance import REPO, git_revision, realdata_dir
@@ -163,6 +164,8 @@ class BoardConfig:
     """Also write ``robustness.md``: every estimator under every sensor fault."""
     robustness_estimators: tuple[str, ...] | None = BASELINES + PIPELINES + HAN2023_TABLE2
     """The robustness board's estimators (every shipped one); None: :attr:`estimators`."""
+    sim_to_real: bool = True
+    """Also write ``sim_to_real.md``: what is tuned on simulation alone, on real phones."""
 
     @classmethod
     def quick(cls, scenarios: Sequence[str] | None = None) -> BoardConfig:
@@ -176,6 +179,7 @@ class BoardConfig:
             paper_experiments=False,
             realism=False,
             robustness=False,
+            sim_to_real=False,
         )
 
 
@@ -185,6 +189,7 @@ def run_leaderboard(
     *,
     progress: Progress | None = None,
     realdata: str | Path | None = None,
+    timings: dict[str, float] | None = None,
 ) -> dict[str, pd.DataFrame]:
     """Evaluate every estimator × scenario × mode of ``config`` and write ``out``.
 
@@ -194,6 +199,7 @@ def run_leaderboard(
         progress: called with a line of text before each walk.
         realdata: the real-data folder (default: :func:`~indoorsim.util.provenance.realdata_dir`);
             the real-data tables are written for the recordings it holds.
+        timings: if given, filled with the seconds some parts took (``sim_to_real``).
 
     Returns the rows per scenario (and ``"real_data"`` when run).
     """
@@ -245,6 +251,10 @@ def run_leaderboard(
         )
     if config.robustness:
         write_robustness_board(config, out, progress=progress)
+    if config.sim_to_real and real.is_dir():
+        elapsed = write_sim_to_real(out, real, progress=progress)
+        if timings is not None:
+            timings["sim_to_real"] = elapsed
     write_provenance(out, {"config": _jsonable_config(config)})
     write_readme(out, tables)
     write_site(out)
@@ -451,6 +461,15 @@ def write_readme(out: Path, tables: dict[str, pd.DataFrame]) -> None:
             "statistic by statistic: [realism.md](realism.md) (`indoorsim realism`).",
             "",
             "![realism](realism_motion.png)",
+            "",
+        ]
+    transfer = out / "sim_to_real.md"
+    if transfer.is_file():
+        parts += [
+            "## Sim-to-real",
+            "",
+            "What is tuned on simulated walks alone, run unchanged on real phones (a step "
+            "detector's counts on the Oxford walks): [sim_to_real.md](sim_to_real.md).",
             "",
         ]
     steps = out / "step_counts_real.md"

@@ -363,6 +363,12 @@ def add_leaderboard(subparsers: Subparsers) -> None:
         help="only regenerate the robustness board (every estimator under every sensor "
         "fault: DIR/robustness.md), then README.md and the site from the tables in --out",
     )
+    parser.add_argument(
+        "--sim-to-real-only",
+        action="store_true",
+        help="only regenerate DIR/sim_to_real.md (what is tuned on simulation alone, "
+        "run on the real recordings), then README.md and the site",
+    )
     add_board_folders(
         parser,
         "the folder of real recordings for the real-data tables (default: "
@@ -428,6 +434,24 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
         write_site(args.out)
         print(f"wrote {args.out / 'robustness.md'}")
         return 0
+    if args.sim_to_real_only:
+        from indoorsim.benchmark.results_site import write_site
+        from indoorsim.benchmark.sim_to_real import write_sim_to_real
+        from indoorsim.util.provenance import realdata_dir
+
+        real = realdata_dir(args.realdata)
+        if not real.is_dir():
+            raise CliError(f"no real-data folder at {real}: give --realdata")
+        args.out.mkdir(parents=True, exist_ok=True)
+        with tqdm(desc="sim-to-real", disable=None, file=sys.stderr) as bar:
+            elapsed = write_sim_to_real(
+                args.out, real, progress=lambda msg: (bar.set_postfix_str(msg), bar.update(1))
+            )
+        leaderboard.write_readme(args.out, leaderboard.tables_on_disk(args.out, config))
+        write_site(args.out)
+        print(f"wrote {args.out / 'sim_to_real.md'} in {elapsed:.1f} s")
+        return 0
+    timings: dict[str, float] = {}
     try:
         with tqdm(desc="leaderboard", disable=None, file=sys.stderr) as bar:
             tables = leaderboard.run_leaderboard(
@@ -435,10 +459,13 @@ def _run_leaderboard(args: argparse.Namespace) -> int:
                 args.out,
                 progress=lambda msg: (bar.set_postfix_str(msg), bar.update(1)),
                 realdata=args.realdata,
+                timings=timings,
             )
     except EstimatorError as err:
         raise CliError(str(err)) from err
     for name, table in tables.items():
         print(f"\n## {name}\n\n{leaderboard.markdown_table(table)}")
+    for part, seconds in timings.items():
+        print(f"\n{part}: regenerated in {seconds:.1f} s")
     print(f"\nwrote {args.out}/")
     return 0

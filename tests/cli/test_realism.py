@@ -78,3 +78,18 @@ def test_simulate_names_a_broken_device_or_walker_file(tmp_path, capsys):
     assert "rate_hz must be > 0" in capsys.readouterr().err
     assert main([*argv, "--device", "ideal", "--walker", str(bad), "--out", out]) == 2
     assert "height_m=9" in capsys.readouterr().err
+
+
+def test_leaderboard_sim_to_real_only_writes_its_page_and_names_a_missing_folder(tmp_path, capsys):
+    real = tmp_path / "real"
+    real.mkdir()
+    out = tmp_path / "board"
+    assert (
+        main(["leaderboard", "--sim-to-real-only", "--realdata", str(real), "--out", str(out)]) == 0
+    )
+    assert "sim_to_real.md in" in capsys.readouterr().out
+    assert "No Oxford step-counter walks" in (out / "sim_to_real.md").read_text()
+    assert "sim_to_real.md" in (out / "README.md").read_text()
+    missing = ["--realdata", str(tmp_path / "none"), "--out", str(out)]
+    assert main(["leaderboard", "--sim-to-real-only", *missing]) == 2
+    assert "no real-data folder" in capsys.readouterr().err
