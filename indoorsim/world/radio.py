@@ -2,12 +2,18 @@
 
 Mean RSS (dBm) of access point k at a receiver p (REALISM §4.1, DESIGN §4 "Radio"):
 
-    RSS_k(p) = P_tx,k − L_sys − FSPL(1 m, f_k) − 10·n·log10(max(d, 1 m)/1 m)
+    RSS_k(p) = P_tx,k + G_k(θ) − L_sys − FSPL(1 m, f_k) − 10·n·log10(max(d, 1 m)/1 m)
                − Σ_walls L_wall(f_k) + X_k(x, y)
 
-* P_tx the AP's transmit power (EIRP), L_sys the antenna, cable and body
+* P_tx the AP's transmit power (EIRP, toward the horizon), L_sys the antenna, cable and body
   losses between it and the phone's report (``radio.system_loss_db``).
 * FSPL(1 m, f) = 20·log10(4π·f·1 m/c): 40.1 dB at 2.412 GHz (REALISM §4.1).
+* G_k(θ) ≤ 0 the AP's antenna gain toward the phone relative to its horizon
+  (:func:`ap_pattern_db`): a vertical dipole's doughnut, θ the angle from the
+  vertical, its axial null filled to ``radio.ap_null_depth_db`` below the horizon.
+  A phone walking under a ceiling AP reads it far below what the distance alone
+  gives (9 dB 0.4 m off its axis, 1.85 m below it); an AP across the room is
+  read at its full EIRP.
 * d the 3-D distance. The log-distance law is referenced at d0 = 1 m and not
   meant for the near field, so the RSS is held at its 1 m value inside 1 m:
   continuous, never rising without bound as the phone nears the AP.
@@ -67,6 +73,7 @@ __all__ = [
     "MultipathField",
     "RadioModel",
     "ShadowingField",
+    "ap_pattern_db",
     "floor_loss_db",
     "free_space_loss_1m_db",
     "multipath_rng",
@@ -114,6 +121,25 @@ def floor_loss_db(slabs: int, per_floor_db: float) -> float:
     if slabs == 0:
         return 0.0
     return per_floor_db * slabs ** ((slabs + 2) / (slabs + 1) - COST231_FLOOR_B)
+
+
+def ap_pattern_db(cos_theta: ArrayLike, null_depth_db: float) -> NDArray[np.float64]:
+    """Gain (dB, ≤ 0) of a vertical half-wave dipole at angle θ from its axis, relative
+    to the horizon (θ = 90°), its null filled to ``null_depth_db`` below:
+
+        G(θ) = 10·log10((1 − a)·F(θ) + a),   F(θ) = [cos(π/2·cos θ) / sin θ]²,
+        a = 10^(−null_depth_db/10)
+
+    F is the half-wave dipole's power pattern (Balanis, *Antenna Theory*, 3rd ed.,
+    eq. 4-84), 1 at the horizon and 0 along the axis (its limit, continuous at
+    θ → 0); ``null_depth_db`` = 0 is an isotropic antenna (G ≡ 0).
+    """
+    c = np.abs(np.clip(np.asarray(cos_theta, dtype=float), -1.0, 1.0))
+    a = 10 ** (-null_depth_db / 10)
+    sin2 = 1.0 - c * c
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = np.where(sin2 > 1e-12, np.cos(np.pi / 2 * c) ** 2 / sin2, 0.0)
+    return 10 * np.log10((1.0 - a) * f + a)
 
 
 def storey_bssid(bssid: str, storey: int) -> str:
@@ -361,6 +387,8 @@ class RadioModel:
         frequency_ghz: (n_ap,) carrier frequencies, GHz.
         path_loss_exponent: n of the log-distance law.
         system_loss_db: losses between EIRP and the phone's report, dB.
+        ap_null_depth_db: depth of the APs' axial null below the horizon, dB
+            (:func:`ap_pattern_db`; 0: isotropic APs).
         shadowing: one field per AP, or ``None`` when σ = 0.
         multipath: one small-scale field per AP, or ``None`` when disabled.
         slab_loss_db: (n_ap,) the COST 231 multi-floor loss of each AP, dB.
@@ -392,6 +420,7 @@ class RadioModel:
         self.path_loss_exponent = radio.path_loss_exponent
         self.system_loss_db = radio.system_loss_db
         self.body_loss_db = radio.body_loss_db
+        self.ap_null_depth_db = radio.ap_null_depth_db
         self.pillar_loss_db = radio.pillar_loss_db
         self.multipath: list[MultipathField] | None = None
         if radio.multipath.enabled:
@@ -433,7 +462,8 @@ class RadioModel:
         )
         out = np.empty((len(p), len(self.bssids)))
         for k, (ap, f_ghz) in enumerate(zip(self.positions, self.frequency_ghz, strict=True)):
-            d = np.maximum(np.linalg.norm(p - ap, axis=1), REFERENCE_DISTANCE_M)
+            span = np.linalg.norm(p - ap, axis=1)
+            d = np.maximum(span, REFERENCE_DISTANCE_M)
             walls = self.plan.crossing_loss_db(
                 p[:, :2], ap[None, :2], float(f_ghz), pillar_loss_db=self.pillar_loss_db
             )
@@ -441,6 +471,10 @@ class RadioModel:
                 d / REFERENCE_DISTANCE_M
             )
             out[:, k] -= walls
+            if self.ap_null_depth_db > 0:
+                # The AP's doughnut: cos θ = |Δz|/distance (horizontal at the AP itself).
+                cos_theta = np.abs(p[:, 2] - ap[2]) / np.maximum(span, 1e-9)
+                out[:, k] += ap_pattern_db(cos_theta, self.ap_null_depth_db)
             if small_scale and self.multipath is not None:
                 obstruction = walls + self.slab_loss_db[k]
                 out[:, k] += self.multipath[k].fading_db(p, ap, obstruction)
