@@ -47,6 +47,7 @@ from indoorsim.util.errors import UnknownNameError
 __all__ = [
     "DEVICES",
     "ENTRY_POINT_GROUP",
+    "HANDSET_SIDE_RATIO_DB",
     "DeviceProfile",
     "InertialSpec",
     "LightSensorSpec",
@@ -289,6 +290,14 @@ class WifiSpec:
         miss_probability: chance that a scan misses an AP it would hear (its beacon
             or probe response lost), independently per scan and AP.
         quantisation_db: RSS reporting step, dB (Android reports whole dBm: 1; 0: exact).
+        antenna_side_ratio_db: the handset's receive gain toward its +x side (the right
+            edge, the screen toward the user) over its gain toward −x, dB; 0: an
+            isotropic phone. The gain in dB is (ratio/2)·cos of the angle between
+            phone +x and the direction to the AP (:meth:`indoorsim.world.radio.
+            RadioModel.handset_gain_db`): the WiFi antenna sits at one edge of the
+            handset, and the chassis (board, battery, screen) and the hand holding it
+            shade the other side, so a phone turned round reads an AP on its side
+            several dB apart, where the carrier's trunk changes nothing.
     """
 
     scan_interval_s: float = 5.0
@@ -300,6 +309,7 @@ class WifiSpec:
     fading_sigma_db: float = 0.0
     miss_probability: float = 0.0
     quantisation_db: float = 0.0
+    antenna_side_ratio_db: float = 0.0
 
     def __post_init__(self) -> None:
         _check(
@@ -309,6 +319,7 @@ class WifiSpec:
                 "scan_duration_spread_s",
                 "fading_sigma_db",
                 "quantisation_db",
+                "antenna_side_ratio_db",
             ),
             positive=("scan_interval_s",),
         )
@@ -396,6 +407,17 @@ _IDEAL = DeviceProfile(
     sources=("all figures: zero by definition",),
 )
 
+HANDSET_SIDE_RATIO_DB = 8.0
+"""A handset's receive gain toward its antenna's side over the opposite side, in the
+hand, dB [E]: a phone's WiFi antenna sits at one edge (commonly a top corner) and the
+board, battery and screen and the gripping hand absorb and shade toward the other, so
+measured handset patterns in the horizontal plane vary by about 10 dB from peak to
+trough [E]; the ratio of a smooth (first-harmonic) pattern, 8 dB, taken for every
+profile (``WifiSpec.antenna_side_ratio_db``). It is what makes a surveyor's two visits
+facing opposite ways read the APs beside the route differently (the UJI sets' 3.2–4.4 dB
+spread across visits, ``leaderboards/realism.md``), as the trunk does those ahead and
+behind."""
+
 _UJI_WIFI_SOURCE = (
     "wifi.fading_sigma_db and miss_probability from the UJI library sets (a Galaxy S3 "
     "standing still, 6 scans a visit; indoorsim.benchmark.realism.radio, real_radio.csv): "
@@ -467,6 +489,7 @@ _VIVO_S9 = DeviceProfile(
         throttling=True,
         detection_threshold_dbm=-95.0,
         fading_sigma_db=1.7,
+        antenna_side_ratio_db=HANDSET_SIDE_RATIO_DB,
         miss_probability=0.04,
         quantisation_db=1.0,
     ),
@@ -564,6 +587,7 @@ _NEXUS_5X = DeviceProfile(
         throttling=False,
         detection_threshold_dbm=-95.0,
         fading_sigma_db=1.7,
+        antenna_side_ratio_db=HANDSET_SIDE_RATIO_DB,
         miss_probability=0.04,
         quantisation_db=1.0,
     ),
@@ -662,6 +686,7 @@ _HONOR_50 = DeviceProfile(
         throttling=False,
         detection_threshold_dbm=-95.0,
         fading_sigma_db=1.7,
+        antenna_side_ratio_db=HANDSET_SIDE_RATIO_DB,
         miss_probability=0.04,
         quantisation_db=1.0,
     ),
@@ -749,6 +774,7 @@ _LOW_GRADE = DeviceProfile(
         throttling=True,
         detection_threshold_dbm=-90.0,
         fading_sigma_db=3.0,
+        antenna_side_ratio_db=HANDSET_SIDE_RATIO_DB,
         miss_probability=0.04,
         quantisation_db=1.0,
     ),
@@ -830,6 +856,7 @@ _MID_GRADE = DeviceProfile(
         throttling=True,
         detection_threshold_dbm=-93.0,
         fading_sigma_db=1.7,
+        antenna_side_ratio_db=HANDSET_SIDE_RATIO_DB,
         miss_probability=0.04,
         quantisation_db=1.0,
     ),
@@ -908,6 +935,7 @@ _HIGH_GRADE = DeviceProfile(
         throttling=False,
         detection_threshold_dbm=-95.0,
         fading_sigma_db=1.5,
+        antenna_side_ratio_db=HANDSET_SIDE_RATIO_DB,
         miss_probability=0.04,
         quantisation_db=1.0,
     ),

@@ -33,7 +33,10 @@ Mean RSS (dBm) of access point k at a receiver p (REALISM §4.1, DESIGN §4 "Rad
 The carrier's body is not part of the building: :meth:`RadioModel.body_shadow_db`
 gives the loss ``radio.body_loss_db`` for the APs behind the trunk as seen from
 the phone (the trunk a vertical cylinder of radius :data:`TORSO_RADIUS_M`), and
-the simulator subtracts it from the mean at each scan.
+the simulator subtracts it from the mean at each scan. Nor is the phone's antenna
+isotropic: :meth:`RadioModel.handset_gain_db` gives its gain toward each AP from the
+way the handset's side faces (``WifiSpec.antenna_side_ratio_db``), which the
+simulator adds likewise.
 * X_k a zero-mean Gaussian shadowing field with standard deviation σ
   (``radio.shadowing_sigma_db``) and exponential spatial correlation
   exp(−Δ/λ) (``radio.shadowing_correlation_m``; REALISM §4.3), fixed per AP
@@ -505,6 +508,25 @@ class RadioModel:
         across = _smoothstep((TORSO_RADIUS_M - miss) / FRESNEL_WIDTH_M + 0.5)
         ahead = _smoothstep(along / FRESNEL_WIDTH_M + 0.5)
         return self.body_loss_db * across * ahead
+
+    def handset_gain_db(
+        self, points: ArrayLike, side_axis: ArrayLike, side_ratio_db: float
+    ) -> NDArray[np.float64]:
+        """(N, n_ap) the phone's own receive gain toward each AP, dB, zero-mean:
+        (ratio/2)·(û·ŝ), û the unit direction from the phone at ``points`` (N, 3) to
+        the AP and ŝ ``side_axis`` (N, 3), the world direction of the handset's side
+        that hears best (``WifiSpec.antenna_side_ratio_db`` is the ratio): the first
+        harmonic of the handset's pattern, +ratio/2 toward that side, −ratio/2 away
+        from it, 0 ahead, behind, straight up and down.
+        """
+        p = _as_points3(points)
+        axis = np.asarray(side_axis, dtype=float)
+        if axis.shape != (len(p), 3):
+            raise ValueError(f"side_axis: expected shape ({len(p)}, 3), got {axis.shape}")
+        axis = axis / np.maximum(np.linalg.norm(axis, axis=1, keepdims=True), 1e-12)
+        to_ap = self.positions[None, :, :] - p[:, None, :]  # (N, n_ap, 3)
+        unit = to_ap / np.maximum(np.linalg.norm(to_ap, axis=2, keepdims=True), 1e-9)
+        return 0.5 * side_ratio_db * np.einsum("nak,nk->na", unit, axis)
 
     def shadowing_db(self, points: ArrayLike) -> NDArray[np.float64]:
         """(N, n_ap) shadowing term X_k at (N, 2) or (N, 3) points, dB (zeros when σ = 0)."""

@@ -230,7 +230,13 @@ def test_cost231_floor_loss_in_closed_form():
 
 
 def test_the_storeys_above_and_below_repeat_the_floors_aps_through_the_slab():
-    radio = {**NO_SHADOWING, **ISOTROPIC, "floors_above": 1, "floors_below": 2, "floor_loss_db": 15.0}
+    radio = {
+        **NO_SHADOWING,
+        **ISOTROPIC,
+        "floors_above": 1,
+        "floors_below": 2,
+        "floor_loss_db": 15.0,
+    }
     ap = _ap(10, 5, 2.5, tx_power_dbm=20.0, frequency_ghz=2.437)
     model = _model(_hall(30, 10, wifi=[ap], radio=radio))
     own = ap["bssid"]
@@ -384,3 +390,28 @@ def test_rss_small_scale_adds_each_aps_own_fade_to_the_local_mean():
     assert not np.allclose(other.rss(p, small_scale=True), model.rss(p, small_scale=True))
     off = _model(_hall(30, 10, wifi=aps, radio={**NO_SHADOWING, "multipath": {"enabled": False}}))
     np.testing.assert_array_equal(off.rss(p, small_scale=True), off.rss(p))
+
+
+def test_the_handset_pattern_is_its_first_harmonic_toward_its_side():
+    # APs ahead (+x), behind (−x) and beside (+y) the phone at (10, 10, 1.2), at its height.
+    model = _behind_model()
+    phone = np.array([[10.0, 10.0, 1.2]] * 3)
+    sides = np.array([[0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [1.0, 1.0, 0.0]])  # not unit: normalised
+    gain = model.handset_gain_db(phone, sides, 8.0)
+    np.testing.assert_allclose(gain[0], [0.0, 0.0, 4.0], atol=1e-12)  # +ratio/2 toward its side
+    np.testing.assert_allclose(gain[1], [0.0, 0.0, -4.0], atol=1e-12)  # turned round: −ratio/2
+    c = math.cos(math.radians(45.0))
+    np.testing.assert_allclose(gain[2], [4.0 * c, -4.0 * c, 4.0 * c], atol=1e-12)
+    # Turning the phone round swaps the sign for every AP: the mean of the two is 0.
+    np.testing.assert_allclose(
+        model.handset_gain_db(phone, sides, 8.0) + model.handset_gain_db(phone, -sides, 8.0), 0.0
+    )
+    assert not model.handset_gain_db(phone, sides, 0.0).any()
+    with pytest.raises(ValueError, match="side_axis"):
+        model.handset_gain_db(phone, np.zeros((2, 3)), 8.0)
+
+
+def test_the_handset_pattern_is_zero_toward_an_ap_straight_above():
+    model = _model(_hall(20, 20, wifi=[_ap(10, 10, 3.0)], radio=NO_SHADOWING))
+    gain = model.handset_gain_db([[10.0, 10.0, 1.2]], [[1.0, 0.0, 0.0]], 8.0)
+    np.testing.assert_allclose(gain, 0.0, atol=1e-12)
