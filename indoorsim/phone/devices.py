@@ -424,7 +424,8 @@ _UJI_WIFI_SOURCE = (
     "one AP's readings within a visit vary by 1.5–1.8 dB (median sample std, whole dBm), "
     "σ ≈ 1.7 dB once the 1 dB steps are taken out; APs a visit hears at −80…−55 dBm are "
     "missing from 0.2–6.1 % of its scans (4 % taken) [D]. Profiles with other figures keep "
-    "them as the spread of phones [E]"
+    "them as the spread of phones [E]. wifi.antenna_side_ratio_db: the handset's own "
+    "pattern, 8 dB from its antenna's side to the other [E] (HANDSET_SIDE_RATIO_DB)"
 )
 
 # The 16-bit full scales phones commonly configure (REALISM §1.4 [E]): ±8 g, ±2000 °/s.
