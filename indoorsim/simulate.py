@@ -264,6 +264,13 @@ def sample_sensors(
         # The carrier's trunk shadows the APs behind it (REALISM §4.3).
         torso = np.column_stack([np.interp(t_mid, phone.t, phone.torso_xy[:, i]) for i in (0, 1)])
         rss_mean = rss_mean - site.radio.body_shadow_db(imu.position(t_mid), torso)
+    if device.wifi.antenna_side_ratio_db > 0 and len(t_scan):
+        # The handset's own pattern, turned with the phone: its +x side in the world.
+        rss_mean = rss_mean + site.radio.handset_gain_db(
+            imu.position(t_mid),
+            imu.to_world_frame(t_mid, [1.0, 0.0, 0.0]),
+            device.wifi.antenna_side_ratio_db,
+        )
     wifi = scan_rss(t_scan, rss_mean, site.radio.bssids, device.wifi, rngs["wifi"])
     return PhoneSamples(
         t_accel=t_accel,

@@ -145,6 +145,11 @@ def grid_survey(
     rss_true = site.rss(where, small_scale=True) - site.radio.body_shadow_db(
         where, _surveyor(pts, facing)
     )
+    if profile.wifi.antenna_side_ratio_db > 0:
+        # The handset's own pattern, its +x side where the stay's attitude turns it.
+        rss_true += site.radio.handset_gain_db(
+            where, att.apply([1.0, 0.0, 0.0]), profile.wifi.antenna_side_ratio_db
+        )
     rows = []
     for k in range(len(pts)):
         t = sample_times(spec.duration_s, spec.rate_hz, profile.timestamp_jitter_frac, noise)
@@ -338,6 +343,10 @@ def walk_survey(
     rss_true = site.rss(where, small_scale=True) - site.radio.body_shadow_db(
         where, _surveyor(markers, facing)
     )
+    if profile.wifi.antenna_side_ratio_db > 0:
+        # Held flat, its top ahead: the handset's +x side to the surveyor's right.
+        side = np.column_stack([facing[:, 1], -facing[:, 0], np.zeros(len(facing))])
+        rss_true += site.radio.handset_gain_db(where, side, profile.wifi.antenna_side_ratio_db)
     rows = []
     for k, point in enumerate(markers):
         n_scans, rss = _static_wifi(site, rss_true[k], spec.wifi_dwell_s, profile, rngs)

@@ -271,6 +271,14 @@ class WifiSpec:
         miss_probability: chance that a scan misses an AP it would hear (its beacon
             or probe response lost), independently per scan and AP.
         quantisation_db: RSS reporting step, dB (Android reports whole dBm: 1; 0: exact).
+        antenna_side_ratio_db: the handset's receive gain toward its +x side (the right
+            edge, the screen toward the user) over its gain toward −x, dB; 0: an
+            isotropic phone. The gain in dB is (ratio/2)·cos of the angle between
+            phone +x and the direction to the AP (:meth:`indoorsim.world.radio.
+            RadioModel.handset_gain_db`): the WiFi antenna sits at one edge of the
+            handset, and the chassis (board, battery, screen) and the hand holding it
+            shade the other side, so a phone turned round reads an AP on its side
+            several dB apart, where the carrier's trunk changes nothing.
     """
 
     scan_interval_s: float = 5.0
@@ -282,6 +290,7 @@ class WifiSpec:
     fading_sigma_db: float = 0.0
     miss_probability: float = 0.0
     quantisation_db: float = 0.0
+    antenna_side_ratio_db: float = 0.0
 
     def __post_init__(self) -> None:
         _check(
@@ -291,6 +300,7 @@ class WifiSpec:
                 "scan_duration_spread_s",
                 "fading_sigma_db",
                 "quantisation_db",
+                "antenna_side_ratio_db",
             ),
             positive=("scan_interval_s",),
         )

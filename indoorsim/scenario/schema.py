@@ -507,6 +507,15 @@ class RadioSpec(_Spec):
     body_loss_db: NonNegFloat = 6.0
     """Loss when the carrier's body stands between the phone and an AP: 3–10 dB
     (REALISM §4.3 [E]); the middle taken."""
+    ap_null_depth_db: Annotated[float, Field(ge=0, le=40, allow_inf_nan=False)] = 10.0
+    """How far below its horizontal gain an AP radiates straight up or down, dB; 0 for
+    an isotropic AP. An AP's omni antennas are vertical dipoles radiating a doughnut,
+    strongest toward the horizon and weakest along their axis, whether the AP hangs
+    from the ceiling or sits high on a wall (Aerohive, "Installation guidelines":
+    "better coverage horizontally than vertically"); the axial null of a lone
+    half-wave dipole is filled in a real AP by its several elements, its housing and
+    the ceiling's reflections, to about 10 dB below the horizon [E]. See
+    :func:`indoorsim.world.radio.ap_pattern_db`."""
     multipath: MultipathSpec = MultipathSpec()
 
 

@@ -2,12 +2,18 @@
 
 Mean RSS (dBm) of access point k at a receiver p (REALISM §4.1, DESIGN §4 "Radio"):
 
-    RSS_k(p) = P_tx,k − L_sys − FSPL(1 m, f_k) − 10·n·log10(max(d, 1 m)/1 m)
+    RSS_k(p) = P_tx,k + G_k(θ) − L_sys − FSPL(1 m, f_k) − 10·n·log10(max(d, 1 m)/1 m)
                − Σ_walls L_wall(f_k) + X_k(x, y)
 
-* P_tx the AP's transmit power (EIRP), L_sys the antenna, cable and body
+* P_tx the AP's transmit power (EIRP, toward the horizon), L_sys the antenna, cable and body
   losses between it and the phone's report (``radio.system_loss_db``).
 * FSPL(1 m, f) = 20·log10(4π·f·1 m/c): 40.1 dB at 2.412 GHz (REALISM §4.1).
+* G_k(θ) ≤ 0 the AP's antenna gain toward the phone relative to its horizon
+  (:func:`ap_pattern_db`): a vertical dipole's doughnut, θ the angle from the
+  vertical, its axial null filled to ``radio.ap_null_depth_db`` below the horizon.
+  A phone walking under a ceiling AP reads it far below what the distance alone
+  gives (9 dB 0.4 m off its axis, 1.85 m below it); an AP across the room is
+  read at its full EIRP.
 * d the 3-D distance. The log-distance law is referenced at d0 = 1 m and not
   meant for the near field, so the RSS is held at its 1 m value inside 1 m:
   continuous, never rising without bound as the phone nears the AP.
@@ -27,7 +33,10 @@ Mean RSS (dBm) of access point k at a receiver p (REALISM §4.1, DESIGN §4 "Rad
 The carrier's body is not part of the building: :meth:`RadioModel.body_shadow_db`
 gives the loss ``radio.body_loss_db`` for the APs behind the trunk as seen from
 the phone (the trunk a vertical cylinder of radius :data:`TORSO_RADIUS_M`), and
-the simulator subtracts it from the mean at each scan.
+the simulator subtracts it from the mean at each scan. Nor is the phone's antenna
+isotropic: :meth:`RadioModel.handset_gain_db` gives its gain toward each AP from the
+way the handset's side faces (``WifiSpec.antenna_side_ratio_db``), which the
+simulator adds likewise.
 * X_k a zero-mean Gaussian shadowing field with standard deviation σ
   (``radio.shadowing_sigma_db``) and exponential spatial correlation
   exp(−Δ/λ) (``radio.shadowing_correlation_m``; REALISM §4.3), fixed per AP
@@ -67,6 +76,7 @@ __all__ = [
     "MultipathField",
     "RadioModel",
     "ShadowingField",
+    "ap_pattern_db",
     "floor_loss_db",
     "free_space_loss_1m_db",
     "multipath_rng",
@@ -114,6 +124,25 @@ def floor_loss_db(slabs: int, per_floor_db: float) -> float:
     if slabs == 0:
         return 0.0
     return per_floor_db * slabs ** ((slabs + 2) / (slabs + 1) - COST231_FLOOR_B)
+
+
+def ap_pattern_db(cos_theta: ArrayLike, null_depth_db: float) -> NDArray[np.float64]:
+    """Gain (dB, ≤ 0) of a vertical half-wave dipole at angle θ from its axis, relative
+    to the horizon (θ = 90°), its null filled to ``null_depth_db`` below:
+
+        G(θ) = 10·log10((1 − a)·F(θ) + a),   F(θ) = [cos(π/2·cos θ) / sin θ]²,
+        a = 10^(−null_depth_db/10)
+
+    F is the half-wave dipole's power pattern (Balanis, *Antenna Theory*, 3rd ed.,
+    eq. 4-84), 1 at the horizon and 0 along the axis (its limit, continuous at
+    θ → 0); ``null_depth_db`` = 0 is an isotropic antenna (G ≡ 0).
+    """
+    c = np.abs(np.clip(np.asarray(cos_theta, dtype=float), -1.0, 1.0))
+    a = 10 ** (-null_depth_db / 10)
+    sin2 = 1.0 - c * c
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = np.where(sin2 > 1e-12, np.cos(np.pi / 2 * c) ** 2 / sin2, 0.0)
+    return 10 * np.log10((1.0 - a) * f + a)
 
 
 def storey_bssid(bssid: str, storey: int) -> str:
@@ -361,6 +390,8 @@ class RadioModel:
         frequency_ghz: (n_ap,) carrier frequencies, GHz.
         path_loss_exponent: n of the log-distance law.
         system_loss_db: losses between EIRP and the phone's report, dB.
+        ap_null_depth_db: depth of the APs' axial null below the horizon, dB
+            (:func:`ap_pattern_db`; 0: isotropic APs).
         shadowing: one field per AP, or ``None`` when σ = 0.
         multipath: one small-scale field per AP, or ``None`` when disabled.
         slab_loss_db: (n_ap,) the COST 231 multi-floor loss of each AP, dB.
@@ -392,6 +423,7 @@ class RadioModel:
         self.path_loss_exponent = radio.path_loss_exponent
         self.system_loss_db = radio.system_loss_db
         self.body_loss_db = radio.body_loss_db
+        self.ap_null_depth_db = radio.ap_null_depth_db
         self.pillar_loss_db = radio.pillar_loss_db
         self.multipath: list[MultipathField] | None = None
         if radio.multipath.enabled:
@@ -433,7 +465,8 @@ class RadioModel:
         )
         out = np.empty((len(p), len(self.bssids)))
         for k, (ap, f_ghz) in enumerate(zip(self.positions, self.frequency_ghz, strict=True)):
-            d = np.maximum(np.linalg.norm(p - ap, axis=1), REFERENCE_DISTANCE_M)
+            span = np.linalg.norm(p - ap, axis=1)
+            d = np.maximum(span, REFERENCE_DISTANCE_M)
             walls = self.plan.crossing_loss_db(
                 p[:, :2], ap[None, :2], float(f_ghz), pillar_loss_db=self.pillar_loss_db
             )
@@ -441,6 +474,10 @@ class RadioModel:
                 d / REFERENCE_DISTANCE_M
             )
             out[:, k] -= walls
+            if self.ap_null_depth_db > 0:
+                # The AP's doughnut: cos θ = |Δz|/distance (horizontal at the AP itself).
+                cos_theta = np.abs(p[:, 2] - ap[2]) / np.maximum(span, 1e-9)
+                out[:, k] += ap_pattern_db(cos_theta, self.ap_null_depth_db)
             if small_scale and self.multipath is not None:
                 obstruction = walls + self.slab_loss_db[k]
                 out[:, k] += self.multipath[k].fading_db(p, ap, obstruction)
@@ -471,6 +508,25 @@ class RadioModel:
         across = _smoothstep((TORSO_RADIUS_M - miss) / FRESNEL_WIDTH_M + 0.5)
         ahead = _smoothstep(along / FRESNEL_WIDTH_M + 0.5)
         return self.body_loss_db * across * ahead
+
+    def handset_gain_db(
+        self, points: ArrayLike, side_axis: ArrayLike, side_ratio_db: float
+    ) -> NDArray[np.float64]:
+        """(N, n_ap) the phone's own receive gain toward each AP, dB, zero-mean:
+        (ratio/2)·(û·ŝ), û the unit direction from the phone at ``points`` (N, 3) to
+        the AP and ŝ ``side_axis`` (N, 3), the world direction of the handset's side
+        that hears best (``WifiSpec.antenna_side_ratio_db`` is the ratio): the first
+        harmonic of the handset's pattern, +ratio/2 toward that side, −ratio/2 away
+        from it, 0 ahead, behind, straight up and down.
+        """
+        p = _as_points3(points)
+        axis = np.asarray(side_axis, dtype=float)
+        if axis.shape != (len(p), 3):
+            raise ValueError(f"side_axis: expected shape ({len(p)}, 3), got {axis.shape}")
+        axis = axis / np.maximum(np.linalg.norm(axis, axis=1, keepdims=True), 1e-12)
+        to_ap = self.positions[None, :, :] - p[:, None, :]  # (N, n_ap, 3)
+        unit = to_ap / np.maximum(np.linalg.norm(to_ap, axis=2, keepdims=True), 1e-9)
+        return 0.5 * side_ratio_db * np.einsum("nak,nk->na", unit, axis)
 
     def shadowing_db(self, points: ArrayLike) -> NDArray[np.float64]:
         """(N, n_ap) shadowing term X_k at (N, 2) or (N, 3) points, dB (zeros when σ = 0)."""

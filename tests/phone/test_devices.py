@@ -135,6 +135,7 @@ def test_every_profile_cites_a_source_for_each_sensor(name: str) -> None:
         (lambda: MagnetometerSpec(range_uT=-5.0), "range_uT"),
         (lambda: LightSensorSpec(max_event_rate_hz=0.0), "max_event_rate_hz"),
         (lambda: WifiSpec(fading_sigma_db=-1.0), "fading_sigma_db"),
+        (lambda: WifiSpec(antenna_side_ratio_db=-1.0), "antenna_side_ratio_db"),
         (lambda: WifiSpec(scan_interval_s=2.0, scan_duration_s=3.0), "scan_interval_s"),
         (lambda: WifiSpec(scan_duration_s=1.0, scan_duration_spread_s=2.0), "spread"),
         (lambda: DeviceProfile(name="x", gap_probability=1.0), "gap_probability"),

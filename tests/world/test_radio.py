@@ -13,6 +13,7 @@ from indoorsim.world.plan import FloorPlan
 from indoorsim.world.radio import (
     MultipathField,
     RadioModel,
+    ap_pattern_db,
     floor_loss_db,
     free_space_loss_1m_db,
     storey_bssid,
@@ -49,6 +50,8 @@ def _model(data: dict) -> RadioModel:
 
 
 NO_SHADOWING = {"shadowing_sigma_db": 0.0}
+ISOTROPIC = {"ap_null_depth_db": 0.0}
+"""APs radiating alike in every direction: the distance law alone, whatever the elevation."""
 
 
 def test_free_space_loss_at_one_metre_matches_realism_table():
@@ -75,9 +78,43 @@ def test_rss_follows_the_log_distance_law_in_free_space(exponent):
 
 
 def test_rss_uses_the_three_dimensional_distance():
-    model = _model(_hall(20, 20, wifi=[_ap(10, 10, 2.5)], radio=NO_SHADOWING))
+    model = _model(_hall(20, 20, wifi=[_ap(10, 10, 2.5)], radio=NO_SHADOWING | ISOTROPIC))
     rss = model.rss([[13.0, 14.0, 2.5], [10.0, 10.0, -2.5]])[:, 0]  # both 5 m away
     assert rss[0] == pytest.approx(rss[1], abs=1e-12)
+
+
+def test_ap_pattern_is_a_half_wave_dipole_with_its_null_filled():
+    theta = np.radians([90.0, 60.0, 45.0, 0.0])
+    # F(θ) = [cos(π/2·cos θ)/sin θ]²: 1 at the horizon, 0 along the axis.
+    f = np.array([1.0, math.cos(math.pi / 4) ** 2 / 0.75, math.cos(math.pi / 2**1.5) ** 2 / 0.5, 0])
+    for depth in (0.0, 10.0, 20.0):
+        a = 10 ** (-depth / 10)
+        np.testing.assert_allclose(
+            ap_pattern_db(np.cos(theta), depth), 10 * np.log10((1 - a) * f + a), atol=1e-12
+        )
+    assert ap_pattern_db(1.0, 10.0) == pytest.approx(-10.0)  # straight down: the filled null
+    assert not ap_pattern_db(np.linspace(-1, 1, 101), 0.0).any()  # isotropic
+    near_axis = ap_pattern_db(np.cos(np.radians([1e-4, 1e-2, 1.0])), 40.0)
+    assert np.all(np.diff(near_axis) > 0) and near_axis[0] == pytest.approx(-40.0, abs=1e-6)
+
+
+def test_an_ap_overhead_is_read_below_the_distance_law_by_its_pattern():
+    # A ceiling AP 1.8 m above the phone's height: straight below it, 0.4 m off and
+    # 10 m away along the floor, against the isotropic AP's distance law.
+    radio = {**NO_SHADOWING, "ap_null_depth_db": 10.0}
+    points = np.array([[10.0, 10.0, 1.2], [10.4, 10.0, 1.2], [20.0, 10.0, 1.2]])
+    ap = [_ap(10, 10, 3.0, tx_power_dbm=20.0, frequency_ghz=2.437)]
+    dipole = _model(_hall(30, 20, wifi=ap, radio=radio)).rss(points)[:, 0]
+    iso = _model(_hall(30, 20, wifi=ap, radio=NO_SHADOWING | ISOTROPIC)).rss(points)[:, 0]
+    cos_theta = 1.8 / np.linalg.norm(points - [10.0, 10.0, 3.0], axis=1)
+    np.testing.assert_allclose(dipole - iso, ap_pattern_db(cos_theta, 10.0), atol=1e-12)
+    assert dipole[0] - iso[0] == pytest.approx(-10.0)
+    assert -10.0 < dipole[1] - iso[1] < -8.0 and -0.3 < dipole[2] - iso[2] < 0.0
+    # Level with the AP (the horizon) the pattern costs nothing.
+    level = [[20.0, 10.0, 3.0]]
+    assert _model(_hall(30, 20, wifi=ap, radio=radio)).rss(level)[0, 0] == pytest.approx(
+        _model(_hall(30, 20, wifi=ap, radio=NO_SHADOWING | ISOTROPIC)).rss(level)[0, 0], abs=1e-12
+    )
 
 
 @pytest.mark.parametrize("frequency_ghz", [2.4, 5.2])
@@ -193,7 +230,13 @@ def test_cost231_floor_loss_in_closed_form():
 
 
 def test_the_storeys_above_and_below_repeat_the_floors_aps_through_the_slab():
-    radio = {**NO_SHADOWING, "floors_above": 1, "floors_below": 2, "floor_loss_db": 15.0}
+    radio = {
+        **NO_SHADOWING,
+        **ISOTROPIC,
+        "floors_above": 1,
+        "floors_below": 2,
+        "floor_loss_db": 15.0,
+    }
     ap = _ap(10, 5, 2.5, tx_power_dbm=20.0, frequency_ghz=2.437)
     model = _model(_hall(30, 10, wifi=[ap], radio=radio))
     own = ap["bssid"]
@@ -347,3 +390,28 @@ def test_rss_small_scale_adds_each_aps_own_fade_to_the_local_mean():
     assert not np.allclose(other.rss(p, small_scale=True), model.rss(p, small_scale=True))
     off = _model(_hall(30, 10, wifi=aps, radio={**NO_SHADOWING, "multipath": {"enabled": False}}))
     np.testing.assert_array_equal(off.rss(p, small_scale=True), off.rss(p))
+
+
+def test_the_handset_pattern_is_its_first_harmonic_toward_its_side():
+    # APs ahead (+x), behind (−x) and beside (+y) the phone at (10, 10, 1.2), at its height.
+    model = _behind_model()
+    phone = np.array([[10.0, 10.0, 1.2]] * 3)
+    sides = np.array([[0.0, 1.0, 0.0], [0.0, -1.0, 0.0], [1.0, 1.0, 0.0]])  # not unit: normalised
+    gain = model.handset_gain_db(phone, sides, 8.0)
+    np.testing.assert_allclose(gain[0], [0.0, 0.0, 4.0], atol=1e-12)  # +ratio/2 toward its side
+    np.testing.assert_allclose(gain[1], [0.0, 0.0, -4.0], atol=1e-12)  # turned round: −ratio/2
+    c = math.cos(math.radians(45.0))
+    np.testing.assert_allclose(gain[2], [4.0 * c, -4.0 * c, 4.0 * c], atol=1e-12)
+    # Turning the phone round swaps the sign for every AP: the mean of the two is 0.
+    np.testing.assert_allclose(
+        model.handset_gain_db(phone, sides, 8.0) + model.handset_gain_db(phone, -sides, 8.0), 0.0
+    )
+    assert not model.handset_gain_db(phone, sides, 0.0).any()
+    with pytest.raises(ValueError, match="side_axis"):
+        model.handset_gain_db(phone, np.zeros((2, 3)), 8.0)
+
+
+def test_the_handset_pattern_is_zero_toward_an_ap_straight_above():
+    model = _model(_hall(20, 20, wifi=[_ap(10, 10, 3.0)], radio=NO_SHADOWING))
+    gain = model.handset_gain_db([[10.0, 10.0, 1.2]], [[1.0, 0.0, 0.0]], 8.0)
+    np.testing.assert_allclose(gain, 0.0, atol=1e-12)

@@ -232,7 +232,9 @@ def static_scans(
 
     Each point is visited :data:`STATIC_VISITS` times, the surveyor facing along the
     route on the first visit and back along it on the second, their trunk
-    ``SURVEY_HOLD_M`` behind the phone; the phone, held at :data:`STATIC_HEIGHT_M`,
+    ``SURVEY_HOLD_M`` behind the phone, which is held flat, its top ahead (so its
+    own pattern, ``WifiSpec.antenna_side_ratio_db``, turns round with them); the
+    phone, held at :data:`STATIC_HEIGHT_M`,
     lands a few centimetres apart on each visit (:data:`STATIC_PLACEMENT_SIGMA_M`),
     so each visit reads its own multipath fade, and the same fade in each of its
     :data:`STATIC_SCANS_PER_VISIT` scans.
@@ -253,7 +255,12 @@ def static_scans(
         )
         toward = facing if visit % 2 == 0 else -facing
         trunk = where[:, :2] - SURVEY_HOLD_M * toward
-        visits.append(site.rss(where, small_scale=True) - site.radio.body_shadow_db(where, trunk))
+        level = site.rss(where, small_scale=True) - site.radio.body_shadow_db(where, trunk)
+        if spec.antenna_side_ratio_db > 0:
+            # Held flat, its top toward ``toward``: its +x side to the surveyor's right.
+            side = np.column_stack([toward[:, 1], -toward[:, 0], np.zeros(len(toward))])
+            level += site.radio.handset_gain_db(where, side, spec.antenna_side_ratio_db)
+        visits.append(level)
     # Rows point by point: each visit's level repeated for its scans.
     mean = np.repeat(np.stack(visits, axis=1), STATIC_SCANS_PER_VISIT, axis=1).reshape(
         len(points) * STATIC_REPEATS, -1

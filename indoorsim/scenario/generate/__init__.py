@@ -67,7 +67,7 @@ and phone height; car parks use tubes only over the aisles, so they stay dim.
 
 WiFi: dual-band access points (one 2.4 GHz and one 5 GHz BSSID each) on the
 ceiling every 10–20 m along circulation, and some on room walls, with
-locally administered, unique BSSIDs.
+locally administered, unique BSSIDs; 17–20 dBm EIRP in either band.
 
 Surveys: every kind declares the two papers' offline phases
 (:func:`~.draft.survey_plans`): Han2023's 1.2 m grid, 30 s at 50 Hz per

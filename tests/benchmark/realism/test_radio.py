@@ -85,3 +85,49 @@ def test_miss_share_counts_the_strong_aps_a_stay_missed():
     # AP 1 (−90 dBm) is never counted.
     assert miss_share(rss, np.array([0, 0, 1, 1])) == pytest.approx(2 / 8)
     assert math.isnan(miss_share(rss[:, 1:2], np.zeros(4)))
+
+
+def test_the_visit_facing_back_turns_the_handsets_pattern_round_for_an_ap_beside_the_route():
+    # A bare hall, no shadowing or multipath: standing on a line along +x, then facing back,
+    # a phone reads an AP 13 m off to its left (+y) through the opposite sides of its own
+    # pattern, −ratio/2 on the way out (its +x side to the right) and +ratio/2 on the way
+    # back; the trunk, behind the phone, is beside neither.
+    from indoorsim.scenario import parse_scenario
+
+    corners = [(0, 0), (60, 0), (60, 20), (0, 20)]
+    scenario = parse_scenario(
+        {
+            "name": "hall",
+            "site": {
+                "latitude": 40.0,
+                "longitude": 0.0,
+                "date": "2025-01-01",
+                "ceiling_height": 3.0,
+            },
+            "outline": [list(c) for c in corners],
+            "walls": [
+                {"from": list(a), "to": list(b), "thickness": 0.2}
+                for a, b in zip(corners, corners[1:] + corners[:1], strict=True)
+            ],
+            "wifi": [{"bssid": "02:00:00:00:00:01", "position": [30.0, 18.0, 1.2]}],
+            "radio": {
+                "shadowing_sigma_db": 0.0,
+                "floors_above": 0,
+                "floors_below": 0,
+                "multipath": {"enabled": False},
+            },
+        }
+    )
+    site = load_site(scenario)
+    device = "nexus_5x"
+    ratio = get_device(device).wifi.antenna_side_ratio_db
+    assert ratio > 0
+    points = np.column_stack([np.linspace(29.0, 31.0, 40), np.full(40, 5.0)])
+    levels, _, _ = static_scans(site, points, device, seed=1)
+    by_visit = np.nanmean(levels[:, 0].reshape(len(points), STATIC_VISITS, -1), axis=2)
+    toward = site.radio.positions[0] - np.column_stack([points, np.full(len(points), 1.2)])
+    along_y = toward[:, 1] / np.linalg.norm(toward, axis=1)
+    # Per point: the 6-scan means differ by the pattern, ± the scans' own spread
+    # (σ ≈ 1.7 dB: ≈ 1 dB per difference, 0.16 dB over 40 points).
+    expected = -ratio * along_y
+    assert np.mean(by_visit[:, 0] - by_visit[:, 1]) == pytest.approx(expected.mean(), abs=0.5)
