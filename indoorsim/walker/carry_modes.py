@@ -18,8 +18,9 @@ schedule of them (DESIGN §5):
   the hand turns at the wrist in two planes, shaken by all the wrist's motion.
 * ``pocketed`` — in a front trouser pocket (either side): long axis along the
   thigh, which turns at the hip in three planes over the gait cycle (flexion
-  after the normal-gait hip curve, ab-/adduction and rotation with drawn lags),
-  jolted at the same-side heel strike, in the dark; the phone rocks on its hold.
+  and rotation after the normal-gait hip curves, ab-/adduction with a drawn lag),
+  jolted at the same-side heel strike, the flesh under the pocket shearing round
+  the thigh, in the dark; the phone rocks on its hold.
 
 What a mode draws per use (grip, misalignment, joint stiffness and damping,
 pocket side and placement, swing and twist amplitudes) is in its fields'
@@ -102,6 +103,29 @@ def _pelvic_list() -> CubicSpline:
 
 
 _PELVIC_LIST = _pelvic_list()
+
+
+def _hip_rotation() -> CubicSpline:
+    """The thigh's rotation about its long axis relative to the pelvis over a gait cycle
+    from that side's heel strike, internal rotation positive, scaled to ±1.
+
+    Knots read off normal gait's hip transverse-plane rotation (Perry & Burnfield,
+    *Gait Analysis*, 2010; Kadaba et al., J Orthop Res 8:383, 1990: a range of
+    8–15°): the limb rotates internally through loading response, most at
+    10–15 % of the cycle, externally through single support to its most at
+    toe-off (≈ 60 %), and internally again through swing [E]. Stance's slow
+    external turn and swing's quick return put the stride's second and third
+    harmonics into its rate.
+    """
+    p = np.array([0.0, 0.06, 0.13, 0.25, 0.4, 0.52, 0.62, 0.7, 0.8, 0.9, 1.0])
+    deg = np.array([0.3, 0.8, 1.0, 0.6, -0.1, -0.7, -1.0, -0.6, 0.1, 0.2, 0.3])
+    grid = np.linspace(0.0, 1.0, 1001)
+    raw = CubicSpline(p, deg, bc_type="periodic")(grid)
+    mid, half = 0.5 * (raw.max() + raw.min()), 0.5 * np.ptp(raw)
+    return CubicSpline(p, (deg - mid) / half, bc_type="periodic")
+
+
+_HIP_ROTATION = _hip_rotation()
 
 # ---------------------------------------------------------------------- shared pieces
 
@@ -576,11 +600,14 @@ class Pocketed(CarryMode):
     The phone rides on the thigh, which turns at the hip in all three planes
     over the gait cycle: flexion follows the hip's sagittal angle of normal gait
     (:data:`_HIP_FLEXION`: slow extension through stance, quick flexion in
-    swing, so the pitch rate is not a sinusoid), ab-/adduction and the rotation
-    about the thigh follow at stride frequency with their own, drawn, lags
-    behind it. The hip joint it hangs from rides on the pelvis, which lists
-    sideways (:data:`_PELVIC_LIST`). At the same-side heel strike the thigh
-    stops against the ground and the phone jolts along it.
+    swing, so the pitch rate is not a sinusoid), ab-/adduction follows at stride
+    frequency with a drawn lag behind it, and the rotation about the thigh follows
+    the hip's transverse-plane curve (:data:`_HIP_ROTATION`: internal in loading
+    response, external toward toe-off) on top of the pelvis's turn, which brings
+    that side forward at its heel strike. The hip joint it hangs from rides on the
+    pelvis, which lists sideways (:data:`_PELVIC_LIST`). At the same-side heel
+    strike the thigh stops against the ground and the phone jolts along it, and
+    the flesh under the pocket shears round the thigh, rolling the pocket with it.
 
     The pocket lies on the front-outer face of the thigh (``pocket_yaw_deg``
     round it from the front), and the phone in it is a plate held at its deep
@@ -602,21 +629,27 @@ class Pocketed(CarryMode):
     thigh_mean_deg: float = 5.0
     """Mean thigh flexion while walking (20–30° flexion at heel contact,
     10–20° extension late in stance)."""
-    thigh_roll_deg: tuple[float, float] = (3.3, 5.5)
-    """Range of the thigh's frontal-plane swing amplitude (6.7–11° peak to peak,
-    real pockets), drawn per use."""
+    thigh_roll_deg: tuple[float, float] = (2.0, 3.5)
+    """Range of the thigh's frontal-plane swing amplitude, drawn per use. Real pockets
+    swing 6.7–11° peak to peak in the frontal plane, the phone's rocking on its hold
+    included: with it the phone's frontal swing is 4–8° (median ≈ 6°) for this range."""
     roll_lag_deg: tuple[float, float] = (30.0, 45.0)
     """Range of its phase lag behind the pitch over the gait cycle, drawn per use:
     the low end of the 30–90° measured in real pockets. Pitch and roll out of phase
     cone, and turn the gyro heading by about π·pitch·roll·sin(lag) per stride (the
     area the tilt encloses): over the whole 30–90° that is 2–6°/stride with this
     swing and roll, while the same real pockets drift 0–2°/stride (typically 1.6);
-    30–45° gives 1–3."""
-    thigh_twist_deg: tuple[float, float] = (8.5, 11.0)
-    """Range of the rotation's amplitude about the thigh (17–22° peak to peak,
-    real pockets), drawn per use."""
-    twist_lag_deg: tuple[float, float] = (0.0, 90.0)
-    """Range of its phase lag behind the pitch, drawn per use [E]."""
+    30–45° and this roll give 1.7–2 (median over walks)."""
+    hip_rotation_deg: tuple[float, float] = (3.0, 5.0)
+    """Range of the hip's rotation amplitude about the thigh (:data:`_HIP_ROTATION`,
+    relative to the pelvis), drawn per use: normal gait's hip transverse-plane range
+    is 8–15° (Kadaba et al. 1990), the low end here because the pelvis's own turn
+    (±3–8°, the trunk's counter-rotation) adds to it nearly in phase; with it and the
+    pocket's roll at heel strike the phone turns 20–34° about the thigh per stride
+    (median ≈ 25°) against the 17–22° of real pockets [E]."""
+    rotation_shift: float = 0.05
+    """Largest shift of that rotation's curve along the gait cycle, drawn per use
+    (fraction of a cycle) [E]."""
     pelvic_list_deg: tuple[float, float] = (3.0, 5.0)
     """Range of the pelvis's frontal-plane tilt amplitude (:data:`_PELVIC_LIST`:
     ±3–5° in normal gait), drawn per use: it lifts and drops the hip joint that
@@ -650,10 +683,18 @@ class Pocketed(CarryMode):
     trunk's does, :func:`~.motion.intra_step_motion`, within 0.3–1.3 times), like the
     body's bounce, which grows with the step. 1.31 m/s is the usual pace (REALISM §5,
     Murtagh et al. 2021)."""
-    impact_shear: tuple[float, float] = (0.3, 0.6)
+    impact_shear: tuple[float, float] = (0.2, 0.5)
     """Range of the jolt across the thigh's front face, as a share of the jolt
     along it: the braking at heel contact and the quadriceps' soft tissue
-    shaking under the phone [E]."""
+    shaking under the phone [E] (0.3–0.6 before the flesh's shear round the thigh,
+    ``impact_roll``, took its share)."""
+    impact_roll: tuple[float, float] = (0.2, 0.4)
+    """Range of the jolt's shear of the flesh round the thigh under the pocket, as a
+    share of the jolt along it (either way round, drawn per use): the pocket on the
+    thigh's rounded front (radius ≈ 7 cm) rolls by that arc over the radius, 2–4° at
+    a usual heel strike, as the quadriceps' soft tissue shakes after it. Rotation of
+    thigh skin about the bone in gait reaches several degrees (soft-tissue artefact,
+    Leardini et al., Gait Posture 21:212, 2005) [E]."""
     impact_width_s: float = 0.028
     """Width σ of that jolt: the thigh's soft tissue and the pocket's cloth spread it.
     The pulse's power peaks at 1/(√2·π·σ) ≈ 8 Hz, where real front pockets put it:
@@ -675,16 +716,18 @@ class Pocketed(CarryMode):
         # The leg's own gait cycle: 0 at its heel strike (stride phase 0 is the left one).
         own = np.mod(body.stride_phase - (0.5 if side < 0 else 0.0), 1.0)
         alpha = env * (math.radians(self.thigh_mean_deg) + swing * _HIP_FLEXION(own))
-        # Ab-/adduction and rotation about the thigh go through the cycle as quickly
-        # as flexion does (fast in swing), each a drawn fraction of a cycle behind it.
-        roll_lag, twist_lag = (
-            rng.uniform(*r) / 360.0 for r in (self.roll_lag_deg, self.twist_lag_deg)
-        )
-        roll_amp, twist_amp = (
-            math.radians(rng.uniform(*r)) for r in (self.thigh_roll_deg, self.thigh_twist_deg)
-        )
+        # Ab-/adduction goes through the cycle as quickly as flexion does (fast in
+        # swing), a drawn fraction of a cycle behind it.
+        roll_lag = rng.uniform(*self.roll_lag_deg) / 360.0
+        roll_amp = math.radians(rng.uniform(*self.thigh_roll_deg))
         roll = env * side * roll_amp * _HIP_FLEXION(np.mod(own - roll_lag, 1.0))
-        twist = env * side * twist_amp * _HIP_FLEXION(np.mod(own - twist_lag, 1.0))
+        # The hip rotates the thigh internally in loading response and externally
+        # toward toe-off (:data:`_HIP_ROTATION`), on top of the pelvis's own turn,
+        # which brings that side forward at its heel strike: internal is toward the
+        # midline, −z on the left leg.
+        rotate_amp = math.radians(rng.uniform(*self.hip_rotation_deg))
+        shift = rng.uniform(-self.rotation_shift, self.rotation_shift)
+        twist = -env * side * rotate_amp * _HIP_ROTATION(np.mod(own - shift, 1.0))
         hip = np.array([0.0, _HIP_HALF_WIDTH * h * side, (_HIP_H - PELVIS_HEIGHT_RATIO) * h])
         same_side = body.steps.foot.to_numpy() == ("R" if side < 0 else "L")
         t_hs = body.steps.t.to_numpy()[same_side]
@@ -694,9 +737,13 @@ class Pocketed(CarryMode):
         pocket_yaw = math.radians(
             self.pocket_yaw_deg if self.pocket_yaw_deg is not None else rng.uniform(10, 40)
         )
+        shear = rng.uniform(*self.impact_shear)
+        # The jolt also shears the flesh under the pocket round the thigh (either way):
+        # the pocket, on the thigh's rounded front, rolls with it about the thigh.
+        roll_share = rng.uniform(*self.impact_roll) * rng.choice((-1.0, 1.0))
+        twist = twist - jolt * roll_share / _POCKET_FRONT_M
         # Round the thigh toward the outside (+y on the left leg), and with its twist.
         around = side * pocket_yaw + twist
-        shear = rng.uniform(*self.impact_shear)
         local = np.empty((len(alpha), 3))
         _pocket_offset(
             np.sin(alpha), np.cos(alpha), np.sin(around), np.cos(around), jolt, shear, local
