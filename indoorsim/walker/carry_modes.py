@@ -666,10 +666,20 @@ class Pocketed(CarryMode):
     """The phone's long axis against the thigh's, in the pocket's plane; None
     draws it from ±(0–20°) per use [E]."""
     wobble_hz: tuple[float, float] = (6.0, 10.0)
-    """Range of the natural frequency of the phone rocking on the pocket's hold
-    (cloth tension and the thigh's soft tissue), drawn per use [E]."""
-    wobble_damping: tuple[float, float] = (0.2, 0.4)
+    """Range of the natural frequency of the phone rocking on the pocket's hold away
+    from the thigh and about its own long axis (cloth tension and the thigh's soft
+    tissue), drawn per use [E]."""
+    wobble_damping: tuple[float, float] = (0.12, 0.3)
     """Range of that rocking's damping ratio, drawn per use [E]."""
+    plane_hz: tuple[float, float] = (5.5, 7.5)
+    """Range of the natural frequency of its rocking in its own plane (its yaw in the
+    pocket), drawn per use: a front pocket's bag is some 12–14 cm across, nearly
+    twice a phone's width, so in that plane only the cloth's friction and the bag's
+    tapering seams hold it, more softly than the cloth pressing it to the thigh [E].
+    Kept clear of twice the step rate (3.4–4 Hz), which it would pump."""
+    plane_damping: tuple[float, float] = (0.1, 0.2)
+    """Range of that in-plane rocking's damping ratio, drawn per use: cloth sliding on
+    cloth damps less than the thigh's soft tissue under the phone [E]."""
     impact_mps2: tuple[float, float] = (13.5, 28.0)
     """Range of the jolt along the thigh at the same-side heel strike, walking at
     ``impact_speed_mps``. With the thigh's own motion the phone then reads
@@ -683,12 +693,12 @@ class Pocketed(CarryMode):
     trunk's does, :func:`~.motion.intra_step_motion`, within 0.3–1.3 times), like the
     body's bounce, which grows with the step. 1.31 m/s is the usual pace (REALISM §5,
     Murtagh et al. 2021)."""
-    impact_shear: tuple[float, float] = (0.2, 0.5)
+    impact_shear: tuple[float, float] = (0.1, 0.4)
     """Range of the jolt across the thigh's front face, as a share of the jolt
     along it: the braking at heel contact and the quadriceps' soft tissue
     shaking under the phone [E] (0.3–0.6 before the flesh's shear round the thigh,
     ``impact_roll``, took its share)."""
-    impact_roll: tuple[float, float] = (0.2, 0.4)
+    impact_roll: tuple[float, float] = (0.25, 0.45)
     """Range of the jolt's shear of the flesh round the thigh under the pocket, as a
     share of the jolt along it (either way round, drawn per use): the pocket on the
     thigh's rounded front (radius ≈ 7 cm) rolls by that arc over the radius, 2–4° at
@@ -717,17 +727,19 @@ class Pocketed(CarryMode):
         own = np.mod(body.stride_phase - (0.5 if side < 0 else 0.0), 1.0)
         alpha = env * (math.radians(self.thigh_mean_deg) + swing * _HIP_FLEXION(own))
         # Ab-/adduction goes through the cycle as quickly as flexion does (fast in
-        # swing), a drawn fraction of a cycle behind it.
+        # swing), a drawn fraction of a cycle behind it. (The draws keep the order
+        # they had before the hip's rotation curve and the flesh's roll came in: the
+        # new ones come after the old, so a seed keeps its walker's other draws.)
         roll_lag = rng.uniform(*self.roll_lag_deg) / 360.0
+        delay = rng.uniform(-self.rotation_shift, self.rotation_shift)
         roll_amp = math.radians(rng.uniform(*self.thigh_roll_deg))
+        rotate_amp = math.radians(rng.uniform(*self.hip_rotation_deg))
         roll = env * side * roll_amp * _HIP_FLEXION(np.mod(own - roll_lag, 1.0))
         # The hip rotates the thigh internally in loading response and externally
         # toward toe-off (:data:`_HIP_ROTATION`), on top of the pelvis's own turn,
         # which brings that side forward at its heel strike: internal is toward the
         # midline, −z on the left leg.
-        rotate_amp = math.radians(rng.uniform(*self.hip_rotation_deg))
-        shift = rng.uniform(-self.rotation_shift, self.rotation_shift)
-        twist = -env * side * rotate_amp * _HIP_ROTATION(np.mod(own - shift, 1.0))
+        twist = -env * side * rotate_amp * _HIP_ROTATION(np.mod(own - delay, 1.0))
         hip = np.array([0.0, _HIP_HALF_WIDTH * h * side, (_HIP_H - PELVIS_HEIGHT_RATIO) * h])
         same_side = body.steps.foot.to_numpy() == ("R" if side < 0 else "L")
         t_hs = body.steps.t.to_numpy()[same_side]
@@ -738,9 +750,20 @@ class Pocketed(CarryMode):
             self.pocket_yaw_deg if self.pocket_yaw_deg is not None else rng.uniform(10, 40)
         )
         shear = rng.uniform(*self.impact_shear)
+        list_amp = math.radians(rng.uniform(*self.pelvic_list_deg))
+        top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)
+        screen_out = self.screen_out if self.screen_out is not None else bool(rng.random() < 0.5)
+        slant = math.radians(
+            self.slant_deg
+            if self.slant_deg is not None
+            else rng.choice((-1.0, 1.0)) * rng.uniform(0.0, 20.0)
+        )
+        rocking = (rng.uniform(*self.wobble_hz), rng.uniform(*self.wobble_damping))
+        roll_share = rng.uniform(*self.impact_roll) * rng.choice((-1.0, 1.0))
+        sliding = (rng.uniform(*self.plane_hz), rng.uniform(*self.plane_damping))
+
         # The jolt also shears the flesh under the pocket round the thigh (either way):
         # the pocket, on the thigh's rounded front, rolls with it about the thigh.
-        roll_share = rng.uniform(*self.impact_roll) * rng.choice((-1.0, 1.0))
         twist = twist - jolt * roll_share / _POCKET_FRONT_M
         # Round the thigh toward the outside (+y on the left leg), and with its twist.
         around = side * pocket_yaw + twist
@@ -750,19 +773,11 @@ class Pocketed(CarryMode):
         )
         # The hip joint rides on the pelvis, which tilts sideways with its list (the
         # loaded side up); the thigh hangs from it in its own frontal-plane angle.
-        tilt = env * side * math.radians(rng.uniform(*self.pelvic_list_deg)) * _PELVIC_LIST(own)
+        tilt = env * side * list_amp * _PELVIC_LIST(own)
         rigid_pos = (
             body.pos
             + limbs.apply(limbs.compose(pelvis, limbs.about("x", tilt)), hip)
             + limbs.apply(limbs.compose(pelvis, limbs.about("x", roll)), local)
-        )
-
-        top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)
-        screen_out = self.screen_out if self.screen_out is not None else bool(rng.random() < 0.5)
-        slant = math.radians(
-            self.slant_deg
-            if self.slant_deg is not None
-            else rng.choice((-1.0, 1.0)) * rng.uniform(0.0, 20.0)
         )
         # Standing, top down, screen out: x right, y down, z forward.
         base = limbs.from_axes([0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0])
@@ -780,7 +795,7 @@ class Pocketed(CarryMode):
             base,
             placement,
         )
-        wobble, shift = self._wobble(body, rigid_pos, rigid, top_down, screen_out, rng)
+        wobble, shift = self._wobble(body, rigid_pos, rigid, top_down, screen_out, rocking, sliding)
         pos = rigid_pos + limbs.apply(rigid, shift)
         rot = limbs.compose(rigid, wobble)
         light = np.full(len(body.t), rng.uniform(*self.light_exposure_range))
@@ -793,7 +808,8 @@ class Pocketed(CarryMode):
         rot: limbs.Quat,
         top_down: bool,
         screen_out: bool,
-        rng: np.random.Generator,
+        rocking: tuple[float, float],
+        sliding: tuple[float, float],
     ) -> tuple[limbs.Quat, NDArray[np.float64]]:
         """The phone's rocking on the pocket's hold, and its centre's shift with it.
 
@@ -808,7 +824,9 @@ class Pocketed(CarryMode):
         the thigh (x), m·(L²/3 + W²/12) in the phone's plane (z), and m·(W²/12 +
         d²) about its long axis (y) — the thigh's front is rounded, so the phone
         rolls on it, held only by the cloth's tension, not stopped by it [E].
-        Returns the rotation and the centre's displacement (R(θ) − 1)·r, both in
+        In its own plane the hold is softer. ``rocking`` and ``sliding`` are the
+        (natural frequency, damping ratio) of the two holds (``wobble_hz``,
+        ``plane_hz``). Returns the rotation and the centre's displacement (R(θ) − 1)·r, both in
         the phone's frame.
         """
         f = limbs.acceleration(pos, body.t)
@@ -827,9 +845,11 @@ class Pocketed(CarryMode):
         length2, width2 = _PHONE_LENGTH_M**2, _PHONE_WIDTH_M**2
         centre = np.array([length2, width2, length2 + width2]) / 12.0
         hold = centre + (r @ r - r**2)
-        torque = -np.cross(r, f_phone) - centre * alpha
-        natural, damping = rng.uniform(*self.wobble_hz), rng.uniform(*self.wobble_damping)
-        theta = limbs.oscillator(torque / hold, natural, damping, body.rate_hz)
+        torque = (-np.cross(r, f_phone) - centre * alpha) / hold
+        theta = np.empty_like(torque)
+        theta[:, :2] = limbs.oscillator(torque[:, :2], *rocking, body.rate_hz)
+        # In its own plane the phone is held more loosely (the pocket is wider than it).
+        theta[:, 2] = limbs.oscillator(torque[:, 2], *sliding, body.rate_hz)
         wobble = limbs.from_rotvec(theta)
         shift = limbs.apply(wobble, np.broadcast_to(r, theta.shape)) - r
         return wobble, shift

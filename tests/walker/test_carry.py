@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
@@ -198,10 +200,9 @@ def test_pocketed_phone_pitches_with_the_thigh(straight_body):
 
 def _per_stride_p2p(body: BodyTrajectory, angle: np.ndarray) -> float:
     """Median peak-to-peak of ``angle`` per stride (left heel strike to the next), steady part."""
-    left = body.steps["t"].to_numpy()[body.steps["foot"].to_numpy() == "L"]
-    return float(
-        np.median([np.ptp(angle[(body.t >= a) & (body.t < b)]) for a, b in zip(left[2:-3], left[3:-2])])
-    )
+    left = body.steps["t"].to_numpy()[body.steps["foot"].to_numpy() == "L"][2:-2]
+    spans = [np.ptp(angle[(body.t >= a) & (body.t < b)]) for a, b in itertools.pairwise(left)]
+    return float(np.median(spans))
 
 
 def test_pocketed_thigh_turns_about_itself_as_real_thighs_do(straight_body):

@@ -76,7 +76,6 @@ INSIDE = {
         "acc_kurtosis",
         "share_2nd",
         "share_stride",
-        "gyro_rms_2",
     },
 }
 """(mode, statistic) inside the real range on every site, per mode."""
