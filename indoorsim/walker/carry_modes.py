@@ -632,7 +632,7 @@ class Pocketed(CarryMode):
     thigh_roll_deg: tuple[float, float] = (2.0, 3.5)
     """Range of the thigh's frontal-plane swing amplitude, drawn per use. Real pockets
     swing 6.7–11° peak to peak in the frontal plane, the phone's rocking on its hold
-    included: with it the phone's frontal swing is 4–8° (median ≈ 6°) for this range."""
+    included: with it the phone's frontal swing is 6–10° (median ≈ 8°) for this range."""
     roll_lag_deg: tuple[float, float] = (30.0, 45.0)
     """Range of its phase lag behind the pitch over the gait cycle, drawn per use:
     the low end of the 30–90° measured in real pockets. Pitch and roll out of phase
@@ -646,7 +646,8 @@ class Pocketed(CarryMode):
     is 8–15° (Kadaba et al. 1990), the low end here because the pelvis's own turn
     (±3–8°, the trunk's counter-rotation) adds to it nearly in phase; with it and the
     pocket's roll at heel strike the phone turns 20–34° about the thigh per stride
-    (median ≈ 25°) against the 17–22° of real pockets [E]."""
+    (median ≈ 24°; the thigh alone 12–23°, median ≈ 20°) against the 17–22° of real
+    pockets [E]."""
     rotation_shift: float = 0.05
     """Largest shift of that rotation's curve along the gait cycle, drawn per use
     (fraction of a cycle) [E]."""
