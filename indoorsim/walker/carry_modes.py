@@ -18,8 +18,9 @@ schedule of them (DESIGN §5):
   the hand turns at the wrist in two planes, shaken by all the wrist's motion.
 * ``pocketed`` — in a front trouser pocket (either side): long axis along the
   thigh, which turns at the hip in three planes over the gait cycle (flexion
-  after the normal-gait hip curve, ab-/adduction and rotation with drawn lags),
-  jolted at the same-side heel strike, in the dark; the phone rocks on its hold.
+  and rotation after the normal-gait hip curves, ab-/adduction with a drawn lag),
+  jolted at the same-side heel strike, the flesh under the pocket shearing round
+  the thigh, in the dark; the phone rocks on its hold.
 
 What a mode draws per use (grip, misalignment, joint stiffness and damping,
 pocket side and placement, swing and twist amplitudes) is in its fields'
@@ -103,6 +104,29 @@ def _pelvic_list() -> CubicSpline:
 
 
 _PELVIC_LIST = _pelvic_list()
+
+
+def _hip_rotation() -> CubicSpline:
+    """The thigh's rotation about its long axis relative to the pelvis over a gait cycle
+    from that side's heel strike, internal rotation positive, scaled to ±1.
+
+    Knots read off normal gait's hip transverse-plane rotation (Perry & Burnfield,
+    *Gait Analysis*, 2010; Kadaba et al., J Orthop Res 8:383, 1990: a range of
+    8–15°): the limb rotates internally through loading response, most at
+    10–15 % of the cycle, externally through single support to its most at
+    toe-off (≈ 60 %), and internally again through swing [E]. Stance's slow
+    external turn and swing's quick return put the stride's second and third
+    harmonics into its rate.
+    """
+    p = np.array([0.0, 0.06, 0.13, 0.25, 0.4, 0.52, 0.62, 0.7, 0.8, 0.9, 1.0])
+    deg = np.array([0.3, 0.8, 1.0, 0.6, -0.1, -0.7, -1.0, -0.6, 0.1, 0.2, 0.3])
+    grid = np.linspace(0.0, 1.0, 1001)
+    raw = CubicSpline(p, deg, bc_type="periodic")(grid)
+    mid, half = 0.5 * (raw.max() + raw.min()), 0.5 * np.ptp(raw)
+    return CubicSpline(p, (deg - mid) / half, bc_type="periodic")
+
+
+_HIP_ROTATION = _hip_rotation()
 
 # ---------------------------------------------------------------------- shared pieces
 
@@ -594,11 +618,14 @@ class Pocketed(CarryMode):
     The phone rides on the thigh, which turns at the hip in all three planes
     over the gait cycle: flexion follows the hip's sagittal angle of normal gait
     (:data:`_HIP_FLEXION`: slow extension through stance, quick flexion in
-    swing, so the pitch rate is not a sinusoid), ab-/adduction and the rotation
-    about the thigh follow at stride frequency with their own, drawn, lags
-    behind it. The hip joint it hangs from rides on the pelvis, which lists
-    sideways (:data:`_PELVIC_LIST`). At the same-side heel strike the thigh
-    stops against the ground and the phone jolts along it.
+    swing, so the pitch rate is not a sinusoid), ab-/adduction follows at stride
+    frequency with a drawn lag behind it, and the rotation about the thigh follows
+    the hip's transverse-plane curve (:data:`_HIP_ROTATION`: internal in loading
+    response, external toward toe-off) on top of the pelvis's turn, which brings
+    that side forward at its heel strike. The hip joint it hangs from rides on the
+    pelvis, which lists sideways (:data:`_PELVIC_LIST`). At the same-side heel
+    strike the thigh stops against the ground and the phone jolts along it, and
+    the flesh under the pocket shears round the thigh, rolling the pocket with it.
 
     The pocket lies on the front-outer face of the thigh (``pocket_yaw_deg``
     round it from the front), and the phone in it is a plate held at its deep
@@ -620,21 +647,28 @@ class Pocketed(CarryMode):
     thigh_mean_deg: float = 5.0
     """Mean thigh flexion while walking (20–30° flexion at heel contact,
     10–20° extension late in stance)."""
-    thigh_roll_deg: tuple[float, float] = (3.3, 5.5)
-    """Range of the thigh's frontal-plane swing amplitude (6.7–11° peak to peak,
-    real pockets), drawn per use."""
+    thigh_roll_deg: tuple[float, float] = (2.0, 3.5)
+    """Range of the thigh's frontal-plane swing amplitude, drawn per use. Real pockets
+    swing 6.7–11° peak to peak in the frontal plane, the phone's rocking on its hold
+    included: with it the phone's frontal swing is 6–10° (median ≈ 8°) for this range."""
     roll_lag_deg: tuple[float, float] = (30.0, 45.0)
     """Range of its phase lag behind the pitch over the gait cycle, drawn per use:
     the low end of the 30–90° measured in real pockets. Pitch and roll out of phase
     cone, and turn the gyro heading by about π·pitch·roll·sin(lag) per stride (the
     area the tilt encloses): over the whole 30–90° that is 2–6°/stride with this
     swing and roll, while the same real pockets drift 0–2°/stride (typically 1.6);
-    30–45° gives 1–3."""
-    thigh_twist_deg: tuple[float, float] = (8.5, 11.0)
-    """Range of the rotation's amplitude about the thigh (17–22° peak to peak,
-    real pockets), drawn per use."""
-    twist_lag_deg: tuple[float, float] = (0.0, 90.0)
-    """Range of its phase lag behind the pitch, drawn per use [E]."""
+    30–45° and this roll give 1.7–2 (median over walks)."""
+    hip_rotation_deg: tuple[float, float] = (3.0, 5.0)
+    """Range of the hip's rotation amplitude about the thigh (:data:`_HIP_ROTATION`,
+    relative to the pelvis), drawn per use: normal gait's hip transverse-plane range
+    is 8–15° (Kadaba et al. 1990), the low end here because the pelvis's own turn
+    (±3–8°, the trunk's counter-rotation) adds to it nearly in phase; with it and the
+    pocket's roll at heel strike the phone turns 20–34° about the thigh per stride
+    (median ≈ 24°; the thigh alone 12–23°, median ≈ 20°) against the 17–22° of real
+    pockets [E]."""
+    rotation_shift: float = 0.05
+    """Largest shift of that rotation's curve along the gait cycle, drawn per use
+    (fraction of a cycle) [E]."""
     pelvic_list_deg: tuple[float, float] = (3.0, 5.0)
     """Range of the pelvis's frontal-plane tilt amplitude (:data:`_PELVIC_LIST`:
     ±3–5° in normal gait), drawn per use: it lifts and drops the hip joint that
@@ -651,10 +685,20 @@ class Pocketed(CarryMode):
     """The phone's long axis against the thigh's, in the pocket's plane; None
     draws it from ±(0–20°) per use [E]."""
     wobble_hz: tuple[float, float] = (6.0, 10.0)
-    """Range of the natural frequency of the phone rocking on the pocket's hold
-    (cloth tension and the thigh's soft tissue), drawn per use [E]."""
-    wobble_damping: tuple[float, float] = (0.2, 0.4)
+    """Range of the natural frequency of the phone rocking on the pocket's hold away
+    from the thigh and about its own long axis (cloth tension and the thigh's soft
+    tissue), drawn per use [E]."""
+    wobble_damping: tuple[float, float] = (0.12, 0.3)
     """Range of that rocking's damping ratio, drawn per use [E]."""
+    plane_hz: tuple[float, float] = (5.5, 7.5)
+    """Range of the natural frequency of its rocking in its own plane (its yaw in the
+    pocket), drawn per use: a front pocket's bag is some 12–14 cm across, nearly
+    twice a phone's width, so in that plane only the cloth's friction and the bag's
+    tapering seams hold it, more softly than the cloth pressing it to the thigh [E].
+    Kept clear of twice the step rate (3.4–4 Hz), which it would pump."""
+    plane_damping: tuple[float, float] = (0.1, 0.2)
+    """Range of that in-plane rocking's damping ratio, drawn per use: cloth sliding on
+    cloth damps less than the thigh's soft tissue under the phone [E]."""
     impact_mps2: tuple[float, float] = (13.5, 28.0)
     """Range of the jolt along the thigh at the same-side heel strike, walking at
     ``impact_speed_mps``. With the thigh's own motion the phone then reads
@@ -668,10 +712,18 @@ class Pocketed(CarryMode):
     trunk's does, :func:`~.motion.intra_step_motion`, within 0.3–1.3 times), like the
     body's bounce, which grows with the step. 1.31 m/s is the usual pace (REALISM §5,
     Murtagh et al. 2021)."""
-    impact_shear: tuple[float, float] = (0.3, 0.6)
+    impact_shear: tuple[float, float] = (0.1, 0.4)
     """Range of the jolt across the thigh's front face, as a share of the jolt
     along it: the braking at heel contact and the quadriceps' soft tissue
-    shaking under the phone [E]."""
+    shaking under the phone [E] (0.3–0.6 before the flesh's shear round the thigh,
+    ``impact_roll``, took its share)."""
+    impact_roll: tuple[float, float] = (0.25, 0.45)
+    """Range of the jolt's shear of the flesh round the thigh under the pocket, as a
+    share of the jolt along it (either way round, drawn per use): the pocket on the
+    thigh's rounded front (radius ≈ 7 cm) rolls by that arc over the radius, 2–4° at
+    a usual heel strike, as the quadriceps' soft tissue shakes after it. Rotation of
+    thigh skin about the bone in gait reaches several degrees (soft-tissue artefact,
+    Leardini et al., Gait Posture 21:212, 2005) [E]."""
     impact_width_s: float = 0.028
     """Width σ of that jolt: the thigh's soft tissue and the pocket's cloth spread it.
     The pulse's power peaks at 1/(√2·π·σ) ≈ 8 Hz, where real front pockets put it:
@@ -693,16 +745,20 @@ class Pocketed(CarryMode):
         # The leg's own gait cycle: 0 at its heel strike (stride phase 0 is the left one).
         own = np.mod(body.stride_phase - (0.5 if side < 0 else 0.0), 1.0)
         alpha = env * (math.radians(self.thigh_mean_deg) + swing * _HIP_FLEXION(own))
-        # Ab-/adduction and rotation about the thigh go through the cycle as quickly
-        # as flexion does (fast in swing), each a drawn fraction of a cycle behind it.
-        roll_lag, twist_lag = (
-            rng.uniform(*r) / 360.0 for r in (self.roll_lag_deg, self.twist_lag_deg)
-        )
-        roll_amp, twist_amp = (
-            math.radians(rng.uniform(*r)) for r in (self.thigh_roll_deg, self.thigh_twist_deg)
-        )
+        # Ab-/adduction goes through the cycle as quickly as flexion does (fast in
+        # swing), a drawn fraction of a cycle behind it. (The draws keep the order
+        # they had before the hip's rotation curve and the flesh's roll came in: the
+        # new ones come after the old, so a seed keeps its walker's other draws.)
+        roll_lag = rng.uniform(*self.roll_lag_deg) / 360.0
+        delay = rng.uniform(-self.rotation_shift, self.rotation_shift)
+        roll_amp = math.radians(rng.uniform(*self.thigh_roll_deg))
+        rotate_amp = math.radians(rng.uniform(*self.hip_rotation_deg))
         roll = env * side * roll_amp * _HIP_FLEXION(np.mod(own - roll_lag, 1.0))
-        twist = env * side * twist_amp * _HIP_FLEXION(np.mod(own - twist_lag, 1.0))
+        # The hip rotates the thigh internally in loading response and externally
+        # toward toe-off (:data:`_HIP_ROTATION`), on top of the pelvis's own turn,
+        # which brings that side forward at its heel strike: internal is toward the
+        # midline, −z on the left leg.
+        twist = -env * side * rotate_amp * _HIP_ROTATION(np.mod(own - delay, 1.0))
         hip = np.array([0.0, _HIP_HALF_WIDTH * h * side, (_HIP_H - PELVIS_HEIGHT_RATIO) * h])
         same_side = body.steps.foot.to_numpy() == ("R" if side < 0 else "L")
         t_hs = body.steps.t.to_numpy()[same_side]
@@ -712,28 +768,35 @@ class Pocketed(CarryMode):
         pocket_yaw = math.radians(
             self.pocket_yaw_deg if self.pocket_yaw_deg is not None else rng.uniform(10, 40)
         )
-        # Round the thigh toward the outside (+y on the left leg), and with its twist.
-        around = side * pocket_yaw + twist
         shear = rng.uniform(*self.impact_shear)
-        local = np.empty((len(alpha), 3))
-        _pocket_offset(
-            np.sin(alpha), np.cos(alpha), np.sin(around), np.cos(around), jolt, shear, local
-        )
-        # The hip joint rides on the pelvis, which tilts sideways with its list (the
-        # loaded side up); the thigh hangs from it in its own frontal-plane angle.
-        tilt = env * side * math.radians(rng.uniform(*self.pelvic_list_deg)) * _PELVIC_LIST(own)
-        rigid_pos = (
-            body.pos
-            + limbs.apply(limbs.compose(pelvis, limbs.about("x", tilt)), hip)
-            + limbs.apply(limbs.compose(pelvis, limbs.about("x", roll)), local)
-        )
-
+        list_amp = math.radians(rng.uniform(*self.pelvic_list_deg))
         top_down = self.top_down if self.top_down is not None else bool(rng.random() < 0.5)
         screen_out = self.screen_out if self.screen_out is not None else bool(rng.random() < 0.5)
         slant = math.radians(
             self.slant_deg
             if self.slant_deg is not None
             else rng.choice((-1.0, 1.0)) * rng.uniform(0.0, 20.0)
+        )
+        rocking = (rng.uniform(*self.wobble_hz), rng.uniform(*self.wobble_damping))
+        roll_share = rng.uniform(*self.impact_roll) * rng.choice((-1.0, 1.0))
+        sliding = (rng.uniform(*self.plane_hz), rng.uniform(*self.plane_damping))
+
+        # The jolt also shears the flesh under the pocket round the thigh (either way):
+        # the pocket, on the thigh's rounded front, rolls with it about the thigh.
+        twist = twist - jolt * roll_share / _POCKET_FRONT_M
+        # Round the thigh toward the outside (+y on the left leg), and with its twist.
+        around = side * pocket_yaw + twist
+        local = np.empty((len(alpha), 3))
+        _pocket_offset(
+            np.sin(alpha), np.cos(alpha), np.sin(around), np.cos(around), jolt, shear, local
+        )
+        # The hip joint rides on the pelvis, which tilts sideways with its list (the
+        # loaded side up); the thigh hangs from it in its own frontal-plane angle.
+        tilt = env * side * list_amp * _PELVIC_LIST(own)
+        rigid_pos = (
+            body.pos
+            + limbs.apply(limbs.compose(pelvis, limbs.about("x", tilt)), hip)
+            + limbs.apply(limbs.compose(pelvis, limbs.about("x", roll)), local)
         )
         # Standing, top down, screen out: x right, y down, z forward.
         base = limbs.from_axes([0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0])
@@ -751,7 +814,7 @@ class Pocketed(CarryMode):
             base,
             placement,
         )
-        wobble, shift = self._wobble(body, rigid_pos, rigid, top_down, screen_out, rng)
+        wobble, shift = self._wobble(body, rigid_pos, rigid, top_down, screen_out, rocking, sliding)
         pos = rigid_pos + limbs.apply(rigid, shift)
         rot = limbs.compose(rigid, wobble)
         light = np.full(len(body.t), rng.uniform(*self.light_exposure_range))
@@ -764,7 +827,8 @@ class Pocketed(CarryMode):
         rot: limbs.Quat,
         top_down: bool,
         screen_out: bool,
-        rng: np.random.Generator,
+        rocking: tuple[float, float],
+        sliding: tuple[float, float],
     ) -> tuple[limbs.Quat, NDArray[np.float64]]:
         """The phone's rocking on the pocket's hold, and its centre's shift with it.
 
@@ -779,7 +843,9 @@ class Pocketed(CarryMode):
         the thigh (x), m·(L²/3 + W²/12) in the phone's plane (z), and m·(W²/12 +
         d²) about its long axis (y) — the thigh's front is rounded, so the phone
         rolls on it, held only by the cloth's tension, not stopped by it [E].
-        Returns the rotation and the centre's displacement (R(θ) − 1)·r, both in
+        In its own plane the hold is softer. ``rocking`` and ``sliding`` are the
+        (natural frequency, damping ratio) of the two holds (``wobble_hz``,
+        ``plane_hz``). Returns the rotation and the centre's displacement (R(θ) − 1)·r, both in
         the phone's frame.
         """
         f = limbs.acceleration(pos, body.t)
@@ -798,9 +864,11 @@ class Pocketed(CarryMode):
         length2, width2 = _PHONE_LENGTH_M**2, _PHONE_WIDTH_M**2
         centre = np.array([length2, width2, length2 + width2]) / 12.0
         hold = centre + (r @ r - r**2)
-        torque = -np.cross(r, f_phone) - centre * alpha
-        natural, damping = rng.uniform(*self.wobble_hz), rng.uniform(*self.wobble_damping)
-        theta = limbs.oscillator(torque / hold, natural, damping, body.rate_hz)
+        torque = (-np.cross(r, f_phone) - centre * alpha) / hold
+        theta = np.empty_like(torque)
+        theta[:, :2] = limbs.oscillator(torque[:, :2], *rocking, body.rate_hz)
+        # In its own plane the phone is held more loosely (the pocket is wider than it).
+        theta[:, 2] = limbs.oscillator(torque[:, 2], *sliding, body.rate_hz)
         wobble = limbs.from_rotvec(theta)
         shift = limbs.apply(wobble, np.broadcast_to(r, theta.shape)) - r
         return wobble, shift

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
@@ -110,14 +112,15 @@ def test_a_swinging_phone_turns_far_faster_than_a_held_one(straight_body, straig
     assert rms["calling"] < rms["dangling"]
 
 
-@pytest.mark.xfail(
-    reason="the simulated pocket turns slower than real ones on its two smaller axes "
-    "(0.6 / 0.45 rad/s against 1-1.3 / 0.8-0.9, leaderboards/realism.md): issue 15",
-    strict=False,
-)
-def test_a_pocketed_phone_turns_faster_than_a_held_one(straight_body, straight_phones):
-    rms = _walking_rates(straight_body, straight_phones)
-    assert rms["pocketed"] > 1.4 * rms["handheld"]
+def test_a_pocketed_phone_turns_faster_than_a_held_one(straight_body):
+    # Grips, reading poses and pockets are drawn per walk: compare the medians of five.
+    draws = [
+        {m: carry(straight_body, m, np.random.default_rng(seed)) for m in ("handheld", "pocketed")}
+        for seed in range(5)
+    ]
+    rates = [_walking_rates(straight_body, phones) for phones in draws]
+    held = np.median([r["handheld"] for r in rates])
+    assert np.median([r["pocketed"] for r in rates]) > 1.4 * held
 
 
 def test_motion_is_smooth_enough_to_differentiate_twice(l_plan, room_to_corridor_end):
@@ -199,6 +202,45 @@ def test_pocketed_phone_pitches_with_the_thigh(straight_body):
     crossings = np.count_nonzero(np.diff(np.sign(pitch - pitch.mean())))
     strides = np.ptp(straight_body.step_phase[steady]) / 2
     assert crossings == pytest.approx(2 * strides, abs=2)
+
+
+def _per_stride_p2p(body: BodyTrajectory, angle: np.ndarray) -> float:
+    """Median peak-to-peak of ``angle`` per stride (left heel strike to the next), steady part."""
+    left = body.steps["t"].to_numpy()[body.steps["foot"].to_numpy() == "L"][2:-2]
+    spans = [np.ptp(angle[(body.t >= a) & (body.t < b)]) for a, b in itertools.pairwise(left)]
+    return float(np.median(spans))
+
+
+def test_pocketed_thigh_turns_about_itself_as_real_thighs_do(straight_body):
+    """The thigh's rotation about its long axis (the hip's, on the pelvis's turn) spans
+    17–22° per stride in real pockets (issue "Motion realism"); without the heel strike's
+    roll of the flesh, the phone's turn about the thigh is the thigh's."""
+    params = {"top_down": True, "screen_out": True, "pocket_yaw_deg": 0.0, "slant_deg": 0.0}
+    params |= {"impact_roll": (0.0, 0.0)}
+    fwd = np.column_stack([np.cos(straight_body.heading), np.sin(straight_body.heading)])
+    left = np.column_stack([-np.sin(straight_body.heading), np.cos(straight_body.heading)])
+    spans = []
+    for seed in range(8):
+        phone = carry(straight_body, [(0.0, "pocketed", params)], np.random.default_rng(seed))
+        z = _rot(phone).apply([0.0, 0.0, 1.0])[:, :2]  # the screen's normal, off the thigh
+        axial = np.unwrap(np.arctan2(np.sum(z * left, 1), np.sum(z * fwd, 1)))
+        spans.append(_per_stride_p2p(straight_body, np.degrees(axial)))
+    assert 17.0 <= np.median(spans) <= 22.0
+    assert min(spans) > 10.0 and max(spans) < 28.0
+
+
+def test_pocketed_phone_swings_sideways_as_real_pockets_do(straight_body):
+    """Real pockets swing 6.7–11° peak to peak in the frontal plane (issue "Motion
+    realism"): the thigh's ab-/adduction and the phone's rocking in its pocket."""
+    params = {"top_down": True, "screen_out": True, "pocket_yaw_deg": 0.0, "slant_deg": 0.0}
+    left = np.column_stack([-np.sin(straight_body.heading), np.cos(straight_body.heading)])
+    spans = []
+    for seed in range(8):
+        phone = carry(straight_body, [(0.0, "pocketed", params)], np.random.default_rng(seed))
+        down = _rot(phone).apply([0.0, 1.0, 0.0])  # top down: y points down the thigh
+        frontal = np.arctan2(np.sum(down[:, :2] * left, 1), -down[:, 2])
+        spans.append(_per_stride_p2p(straight_body, np.degrees(frontal)))
+    assert 6.7 <= np.median(spans) <= 11.0
 
 
 def test_dangling_arm_swings_like_a_pendulum(straight_body):

@@ -47,6 +47,7 @@ INSIDE = {
         "step_hz",
         "cadence_ratio",
         "acc_std",
+        "acc_p2p",
         "acc_crest",
         "acc_kurtosis",
         "share_step",
@@ -54,6 +55,7 @@ INSIDE = {
         "share_stride",
         "gyro_rms_1",
         "gyro_rms_2",
+        "gyro_rms_3",
         "heading_jitter",
         "gyro_drift",
     },
@@ -65,7 +67,7 @@ INSIDE = {
         "gyro_rms_2",
         "gyro_rms_3",
     },
-    "dangling": {"step_hz", "acc_crest", "acc_kurtosis", "share_2nd", "gyro_rms_3"},
+    "dangling": {"step_hz", "acc_crest", "acc_kurtosis", "share_2nd"},
     "pocketed": {
         "step_hz",
         "cadence_ratio",
@@ -75,6 +77,7 @@ INSIDE = {
         "acc_kurtosis",
         "share_2nd",
         "share_stride",
+        "gyro_drift",
     },
 }
 """(mode, statistic) inside the real range on every site, per mode."""

@@ -55,7 +55,7 @@ TINY = DatasetConfig(
     stride_samples=25,
     rows_per_row_group=64,
 )
-EPOCHS, BATCH = 8, 32
+EPOCHS, BATCH = 10, 32
 
 # The tiny data set has two sites, so its val and test splits are empty: train says so.
 pytestmark = pytest.mark.filterwarnings("ignore:--data .* split holds no windows:UserWarning")
