@@ -80,7 +80,7 @@ from typing import Any
 import numpy as np
 import shapely
 from numpy.typing import NDArray
-from shapely.geometry import MultiLineString, MultiPolygon, Point, Polygon, shape
+from shapely.geometry import LineString, MultiLineString, MultiPolygon, Point, Polygon, shape
 from shapely.ops import nearest_points, unary_union
 
 from indoorsim.scenario.generate.cells import WallType, mm, snap
@@ -728,9 +728,25 @@ def add_trace_routes(
             blocked = plan.crosses_wall(xy[:-1], xy[1:])
             if blocked.any():
                 j = int(np.flatnonzero(blocked)[0])
+                leg = LineString(xy[j : j + 2])
+                cut = [
+                    (n, leg.intersection(poly).length)
+                    for n, poly in room_polys
+                    if leg.intersects(poly)
+                ]
+                if cut:
+                    through = "cuts through " + ", ".join(
+                        f"shop {n!r} for {length:.2f} m" for n, length in cut
+                    )
+                else:
+                    n, poly = min(room_polys, key=lambda rp: leg.distance(rp[1]))
+                    through = (
+                        f"comes within {leg.distance(poly):.2f} m of shop {n!r}: into its wall"
+                    )
                 reason = (
                     f"leg {j} ({xy[j, 0]:.2f}, {xy[j, 1]:.2f}) → ({xy[j + 1, 0]:.2f}, "
-                    f"{xy[j + 1, 1]:.2f}) passes through a wall"
+                    f"{xy[j + 1, 1]:.2f}) passes through a wall or column (the straight line "
+                    f"{through})"
                 )
         if reason:
             left_out[trace] = reason
