@@ -419,7 +419,7 @@ def import_ilc_floor(floor: IlcFloor, *, seed: int = 0, name: str | None = None)
             slivers.append(names[i])
             shops.append(Polygon())
             continue
-        shops.append(Polygon(poly.exterior))
+        shops.append(shapely.normalize(Polygon(poly.exterior)))
         kept_names.append(names[i])
     rooms = [s for s in shops if not s.is_empty]
     if not rooms:
