@@ -143,6 +143,13 @@ def _run_import_plan(args: argparse.Namespace) -> int:
             print(f"    kept {name}: {'; '.join(notes)}")
         for name, reason in sorted(left_out.items()):
             print(f"    left out {name}: {reason}")
+        if routes.kept:
+            # The traces' phone: an OPPO PBCM10 (BMI160, AK09911, Android 8.1), held flat.
+            print(
+                f"  a trace's twin: indoorsim simulate {out} --route {min(routes.kept)} "
+                "--mode handheld --device nexus_5x (the nearest built-in profile to the "
+                "traces' OPPO PBCM10)"
+            )
     dump_scenario(scenario, out)
     print(f"wrote {out} ({time.perf_counter() - start:.2f} s in all)")
     return 0
