@@ -134,12 +134,13 @@ def _run_import_plan(args: argparse.Namespace) -> int:
         routes = add_trace_routes(imported, traces)
         scenario = routes.scenario
         left_out = {**unreadable, **routes.left_out}
-        moved = {k: v for k, v in routes.kept.items() if v}
+        changed = {k: v for k, v in routes.kept.items() if v}
         print(
             f"  routes from {len(traces) + len(unreadable)} traces: {len(routes.kept)} kept "
-            f"({len(moved)} with waypoints moved into the corridor), {len(left_out)} left out"
+            f"({len(changed)} with a waypoint moved into the corridor or a leg walked round a "
+            f"wall), {len(left_out)} left out"
         )
-        for name, notes in sorted(moved.items()):
+        for name, notes in sorted(changed.items()):
             print(f"    kept {name}: {'; '.join(notes)}")
         for name, reason in sorted(left_out.items()):
             print(f"    left out {name}: {reason}")

@@ -96,18 +96,31 @@ def test_routes_nudge_a_waypoint_out_of_a_shop_or_leave_the_trace_out(two_shops)
     assert set(routes) == {"clean", "nudged"}
 
 
-def test_a_leg_through_a_shop_leaves_the_trace_out():
+def test_a_leg_through_a_shop_is_walked_round_it_or_left_out():
     # A kiosk (3 m × 1.5 m) stands in the corridor: its doorway is on a 3 m side,
     # and a straight leg along the corridor cuts through its short sides.
     shops = {**TWO_SHOPS, "kiosk": [(10, 1.5), (13, 1.5), (13, 3), (10, 3)]}
     imported = import_ilc_floor(parse_ilc_floor(plan_geojson(shops), INFO), seed=3)
     assert {d.position[1] for d in imported.scenario.doors} - {4.0} <= {1.5, 3.0}
-    result = add_trace_routes(imported, {"through": ([(9.0, 2.2), (14.0, 2.2)], 1.2)})
-    assert result.kept == {}
-    assert result.left_out["through"] == (
+    trace = {"through": ([(9.0, 2.2), (14.0, 2.2)], 1.2)}
+    where = (
         "leg 0 (9.00, 2.20) → (14.00, 2.20) passes through a wall or column (the straight "
         "line cuts through shop 'kiosk' for 3.00 m)"
     )
+    result = add_trace_routes(imported, trace, detour=False)
+    assert result.kept == {} and result.left_out == {"through": where}
+    result = add_trace_routes(imported, trace)
+    route = result.scenario.routes["through"]
+    pts = np.asarray(route.waypoints)
+    length = np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()
+    assert len(pts) > 2
+    assert tuple(pts[0]) == (9.0, 2.2) and tuple(pts[-1]) == (14.0, 2.2)
+    # Round the kiosk's 1.5 m side with 0.35 m to spare, at the trace's duration.
+    assert 5.0 < length < 8.0
+    assert route.speed == pytest.approx(1.2 * length / 5.0, abs=1e-3)
+    assert result.kept["through"][0].startswith(where + ": walked round it, ")
+    kiosk = Polygon(shops["kiosk"])
+    assert not LineString(pts).intersects(kiosk)
 
 
 def test_waypoint_speed_is_path_length_over_time():
@@ -196,19 +209,27 @@ def test_ms_traces_become_routes_that_simulate(ms, ms_traces, tmp_path):
 
     result = add_trace_routes(ms, ms_traces)
     assert set(result.kept) | set(result.left_out) == set(ms_traces)
-    assert len(result.kept) >= 12
+    assert len(result.kept) >= 14
     for name, reason in result.left_out.items():
         assert "passes through a wall" in reason, (name, reason)
-    for name in result.kept:
-        route = result.scenario.routes[name]
-        assert route.speed == pytest.approx(ms_traces[name][1], abs=1e-3)
-        if not result.kept[name]:
-            assert np.allclose(route.waypoints, ms_traces[name][0], atol=1e-3)
+
+    def length(xy):
+        return np.linalg.norm(np.diff(np.asarray(xy), axis=0), axis=1).sum()
+
+    for name, notes in result.kept.items():
+        route, (waypoints, speed) = result.scenario.routes[name], ms_traces[name]
+        # The same duration: the trace's speed over the path walked.
+        duration = length(waypoints) / speed
+        assert length(route.waypoints) / route.speed == pytest.approx(duration, rel=1e-3)
+        if not notes:
+            assert np.allclose(route.waypoints, waypoints, atol=1e-3)
     path = tmp_path / "ms.yaml"
     dump_scenario(result.scenario, path)
     assert load_scenario(path) == result.scenario
     site = load_site(path)
-    name = min(result.kept)
+    # A route with a leg walked round a wall, when there is one (the whole path is
+    # planned before the walk is cut at 4 s).
+    name = min(result.kept, key=lambda n: (not result.kept[n], n))
     rec = simulate(site, route=name, mode="handheld", device="nexus_5x", seed=0, duration_s=4.0)
     start = np.asarray(result.scenario.routes[name].waypoints[0])
     truth = rec.truth[["x", "y"]].to_numpy()
