@@ -88,7 +88,7 @@ from shapely.geometry import LineString, MultiLineString, MultiPolygon, Point, P
 from shapely.ops import nearest_points, unary_union
 
 from indoorsim.scenario.generate.cells import WallType, mm, snap
-from indoorsim.scenario.generate.draft import Draft, _induced_direction, wall_types
+from indoorsim.scenario.generate.draft import Draft, wall_types
 from indoorsim.scenario.load import parse_scenario, scenario_to_dict
 from indoorsim.scenario.schema import RouteSpec, Scenario
 from indoorsim.walker.route import RouteError, plan_route
@@ -447,15 +447,12 @@ def import_ilc_floor(floor: IlcFloor, *, seed: int = 0, name: str | None = None)
     types = wall_types(rng, exterior=WallType(thickness=0.3, material="concrete"))
     h = snap(rng.uniform(4.5, 6.0), 0.1)
     d = _PlanDraft(rng, floor=floor_m, ceiling_height=h, wall_types=types)
-    date = floor.date or datetime.date(2020, 1, 1)
-    d.site = {
-        "latitude": round(lat, 5),
-        "longitude": round(lon, 5),
-        "date": date.isoformat(),
-        "north_deg": 0.0,
-        "ceiling_height": mm(h),
-    }
-    d._induced = _induced_direction(lat, 0.0)
+    d.set_site(
+        latitude=round(lat, 5),
+        longitude=round(lon, 5),
+        date=(floor.date or datetime.date(2020, 1, 1)).isoformat(),
+        north_deg=0.0,
+    )
 
     # -- walls: every edge noded once, each side's owner probed
     linework = unary_union(shapely.boundary(np.array([*rooms, *parts], dtype=object)))
