@@ -31,6 +31,7 @@ LAYERS: dict[str, int] = {
     "indoorsim.scenario.checks": 2,  # geometry checks build the world's floor plan
     "indoorsim.scenario.load": 2,
     "indoorsim.scenario.generate": 2,
+    "indoorsim.scenario.imports": 2,  # importers build on the generator's draft and the plan
     "indoorsim.walker": 2,
     "indoorsim.phone": 2,
     "indoorsim.simulate": 3,

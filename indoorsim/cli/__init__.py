@@ -4,6 +4,8 @@
 
     indoorsim scenarios                                   # the bundled scenarios, as a table
     indoorsim scenarios minimal_room                      # one: its routes, surveys, sources
+    indoorsim import-plan site1/F1/geojson_map.json --traces site1/F1/path_data_files \\
+        --seed 0 --out mall.yaml                          # a real floor plan as a scenario
     indoorsim simulate minimal_room --route main --mode handheld,8:calling \\
         --device honor_50 --seed 1 --out walks/main-1     # one walk, as a recording folder
     indoorsim survey han2023_basement --kind grid --device honor_50 --seed 0 --out db/
@@ -24,6 +26,7 @@
     indoorsim train --data data/ --out checkpoints/io --epochs 15   # the learned-io network
 
 One module per command group: :mod:`~indoorsim.cli.scenarios`,
+:mod:`~indoorsim.cli.import_plan`,
 :mod:`~indoorsim.cli.simulate` (``simulate``, ``survey``),
 :mod:`~indoorsim.cli.estimators`,
 :mod:`~indoorsim.cli.plot` (``plot site``, ``plot recording``),
@@ -65,6 +68,7 @@ from indoorsim.cli.args import CliError
 from indoorsim.cli.dataset import add_dataset, add_train
 from indoorsim.cli.estimators import add_estimators
 from indoorsim.cli.evaluate import add_evaluate, add_leaderboard
+from indoorsim.cli.import_plan import add_import_plan
 from indoorsim.cli.plot import add_plot
 from indoorsim.cli.realism import add_calibrate, add_realism
 from indoorsim.cli.scenarios import add_scenarios
@@ -79,6 +83,7 @@ __all__ = ["build_parser", "main"]
 
 _COMMANDS: tuple[Callable[[Subparsers], None], ...] = (
     add_scenarios,
+    add_import_plan,
     add_simulate,
     add_survey,
     add_estimators,

@@ -4,7 +4,9 @@
   world, walker and phone read them);
 * :mod:`~indoorsim.scenario.checks` — problems between keys and in the geometry;
 * :mod:`~indoorsim.scenario.load` — YAML in and out, bundled scenarios by name;
-* :mod:`~indoorsim.scenario.generate` — procedural buildings, one module per kind.
+* :mod:`~indoorsim.scenario.generate` — procedural buildings, one module per kind;
+* :mod:`~indoorsim.scenario.imports` — real floor plans (the Indoor Location
+  Competition's GeoJSON) and real traces' waypoints as scenarios and routes.
 
 Every error names the file, the dotted key path and the problem, and nothing is
 half-loaded: :func:`load_scenario` either returns a fully validated

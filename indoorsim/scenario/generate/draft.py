@@ -140,6 +140,19 @@ class Draft:
         self.surveys: dict[str, dict] = {}
         self._bssids: set[str] = set()
 
+    def set_site(self, *, latitude: float, longitude: float, date: str, north_deg: float) -> None:
+        """Stand the building at a given place (a real plan's) instead of the drawn one;
+        steel is then magnetised along that place's field."""
+        self.site.update(
+            {
+                "latitude": latitude,
+                "longitude": longitude,
+                "date": date,
+                "north_deg": mm(north_deg),
+            }
+        )
+        self._induced = _induced_direction(latitude, self.site["north_deg"])
+
     # ------------------------------------------------------------------ walls
 
     def build_walls(self, cells: Sequence[Cell]) -> None:

@@ -1,0 +1,236 @@
+"""Importing Indoor Location Competition floor plans: the door rule in closed form,
+the MS mall floor's frame against its real waypoints, round trips, seeds, routes."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import LineString, Polygon
+
+from indoorsim.scenario.imports import (
+    PlanImportError,
+    add_trace_routes,
+    import_ilc_floor,
+    parse_ilc_floor,
+    read_ilc_floor,
+    waypoint_speed,
+)
+from indoorsim.scenario.load import dump_scenario, load_scenario, load_site
+from tests.scenario.imports.conftest import (
+    MS_FLOOR,
+    TWO_SHOPS,
+    needs_ms_floor,
+    plan_geojson,
+)
+
+INFO = {"map_info": {"width": 20.0, "height": 10.0}}
+
+
+@pytest.fixture(scope="module")
+def two_shops():
+    return import_ilc_floor(parse_ilc_floor(plan_geojson(TWO_SHOPS), INFO), seed=3)
+
+
+# ------------------------------------------------------------------ the door rule, closed form
+
+
+def test_each_shop_gets_one_door_centred_on_its_corridor_side(two_shops):
+    s = two_shops.scenario
+    assert [r.name for r in s.rooms] == ["A", "B"]
+    assert two_shops.doorless == ()
+    doors = sorted(s.doors, key=lambda d: d.position)
+    # A's longest edges tie at 8 m (y = 4 on the corridor, y = 10 on the outline):
+    # the door goes to the one facing the corridor, at its midpoint; B's at (14, 4).
+    assert [d.position for d in doors] == [(4.0, 4.0), (14.0, 4.0)]
+    for d in doors:
+        assert 2.4 <= d.width <= 4.0
+
+
+def test_walls_follow_the_outline_and_the_shops_once_each(two_shops):
+    walls = two_shops.scenario.walls
+    kinds = sorted((w.material, w.thickness) for w in walls)
+    # Outline: 3 pieces beside the corridor, 2 round each shop; A|corridor and
+    # B|corridor glass shopfronts; one partition between A and B (not two).
+    assert kinds.count(("concrete", 0.3)) == 7
+    assert kinds.count(("glass", 0.1)) == 2
+    partitions = [w for w in walls if w.material in ("drywall", "brick")]
+    assert len(partitions) == 1 and {partitions[0].start, partitions[0].to} == {(8, 4), (8, 10)}
+    assert len(walls) == 10
+    assert two_shops.scenario.site.north_deg == 0.0
+
+
+def test_shop_polygons_are_cleaned(two_shops):
+    # A tiny zigzag and collinear vertices are simplified away; a 0.2 m sliver is dropped.
+    shops = {
+        "A": [(0, 4), (4, 4), (4.03, 4.02), (4.06, 4), (8, 4), (8, 10), (0, 10)],
+        "B": [(8, 4), (14, 4), (20, 4), (20, 10), (8, 10)],
+        "sliver": [(0, 0), (6, 0), (6, 0.2), (0, 0.2)],
+    }
+    imported = import_ilc_floor(parse_ilc_floor(plan_geojson(shops), INFO), seed=3)
+    assert imported.slivers == ("sliver",)
+    assert dump_scenario(imported.scenario) == dump_scenario(two_shops.scenario)
+
+
+def test_routes_nudge_a_waypoint_out_of_a_shop_or_leave_the_trace_out(two_shops):
+    traces = {
+        "clean": ([(1.0, 2.0), (18.0, 2.0)], 1.1),
+        "nudged": ([(1.0, 4.5), (18.0, 2.0)], 1.1),  # 0.5 m into shop A, behind its wall
+        "deep": ([(1.0, 8.0), (18.0, 2.0)], 1.1),  # 4 m into shop A
+        "too_fast": ([(1.0, 2.0), (18.0, 2.0)], 5.0),
+    }
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result = add_trace_routes(two_shops, traces)
+    routes = result.scenario.routes
+    assert routes["clean"].waypoints == [(1.0, 2.0), (18.0, 2.0)]
+    assert routes["clean"].speed == 1.1
+    # The shopfront's face is 0.05 m below y = 4; the waypoint goes 0.1 m further.
+    assert routes["nudged"].waypoints[0] == pytest.approx((1.0, 3.85), abs=1e-3)
+    assert result.kept["nudged"] == ["waypoint 0 moved 0.65 m out of shop 'A'"]
+    assert "in shop 'A'" in result.left_out["deep"] and "more than 1 m" in result.left_out["deep"]
+    assert "outside (0.1, 3]" in result.left_out["too_fast"]
+    assert set(routes) == {"clean", "nudged"}
+
+
+def test_a_leg_through_a_shop_is_walked_round_it_or_left_out():
+    # A kiosk (3 m × 1.5 m) stands in the corridor: its doorway is on a 3 m side,
+    # and a straight leg along the corridor cuts through its short sides.
+    shops = {**TWO_SHOPS, "kiosk": [(10, 1.5), (13, 1.5), (13, 3), (10, 3)]}
+    imported = import_ilc_floor(parse_ilc_floor(plan_geojson(shops), INFO), seed=3)
+    assert {d.position[1] for d in imported.scenario.doors} - {4.0} <= {1.5, 3.0}
+    trace = {"through": ([(9.0, 2.2), (14.0, 2.2)], 1.2)}
+    where = (
+        "leg 0 (9.00, 2.20) → (14.00, 2.20) passes through a wall or column (the straight "
+        "line cuts through shop 'kiosk' for 3.00 m)"
+    )
+    result = add_trace_routes(imported, trace, detour=False)
+    assert result.kept == {} and result.left_out == {"through": where}
+    result = add_trace_routes(imported, trace)
+    route = result.scenario.routes["through"]
+    pts = np.asarray(route.waypoints)
+    length = np.linalg.norm(np.diff(pts, axis=0), axis=1).sum()
+    assert len(pts) > 2
+    assert tuple(pts[0]) == (9.0, 2.2) and tuple(pts[-1]) == (14.0, 2.2)
+    # Round the kiosk's 1.5 m side with 0.35 m to spare, at the trace's duration.
+    assert 5.0 < length < 8.0
+    assert route.speed == pytest.approx(1.2 * length / 5.0, abs=1e-3)
+    assert result.kept["through"][0].startswith(where + ": walked round it, ")
+    kiosk = Polygon(shops["kiosk"])
+    assert not LineString(pts).intersects(kiosk)
+
+
+def test_waypoint_speed_is_path_length_over_time():
+    assert waypoint_speed([(0, 0), (3, 0), (3, 4)], [10.0, 12.0, 17.0]) == 1.0
+    assert math.isnan(waypoint_speed([(0, 0), (1, 0)], [5.0, 5.0]))
+
+
+@pytest.mark.parametrize(
+    ("geojson", "info", "message"),
+    [
+        ([], INFO, "geojson: not GeoJSON: expected a FeatureCollection"),
+        ({"type": "FeatureCollection", "features": []}, INFO, "geojson: no floor feature"),
+        (plan_geojson(TWO_SHOPS), {"width": 20}, "floor_info: no map_info with a width"),
+        (plan_geojson(TWO_SHOPS), {"map_info": {"width": 0, "height": 5}}, "floor_info: map size"),
+    ],
+)
+def test_bad_plans_say_which_file_and_what(geojson, info, message):
+    with pytest.raises(PlanImportError, match=message):
+        parse_ilc_floor(geojson, info)
+
+
+# ------------------------------------------------------------------ the MS mall floor
+
+
+@pytest.fixture(scope="module")
+def ms():
+    floor = read_ilc_floor(MS_FLOOR / "geojson_map.json", MS_FLOOR / "floor_info.json")
+    return import_ilc_floor(floor, seed=0)
+
+
+@pytest.fixture(scope="module")
+def ms_traces():
+    from indoorsim.io.reallogs.ilc import read_ilc_trace
+
+    traces = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # upstream's run-together rows are skipped
+        for path in sorted((MS_FLOOR / "path_data_files").glob("*.txt")):
+            wp = read_ilc_trace(path).waypoints
+            xy = wp[["x", "y"]].to_numpy()
+            traces[path.stem] = (xy.tolist(), waypoint_speed(xy, wp.index.to_numpy()))
+    return traces
+
+
+@needs_ms_floor
+def test_ms_waypoints_fall_in_the_corridors(ms, ms_traces):
+    s = ms.scenario
+    xy = np.concatenate([np.asarray(wp) for wp, _ in ms_traces.values()])
+    shops = shapely.union_all([Polygon(r.polygon) for r in s.rooms])
+    assert len(xy) == 85
+    assert shapely.contains_xy(Polygon(s.outline), xy[:, 0], xy[:, 1]).all()
+    assert not shapely.contains_xy(shops, xy[:, 0], xy[:, 1]).any()
+    # The check can fail: with the y axis flipped, many waypoints land in shops.
+    assert shapely.contains_xy(shops, xy[:, 0], 176.44 - xy[:, 1]).mean() > 0.3
+
+
+@needs_ms_floor
+def test_ms_floor_is_a_mall(ms):
+    s, n = ms.scenario, ms.counts()
+    assert n["rooms"] == 172 and ms.slivers == ()
+    assert n["doors"] + len(ms.doorless) == 172 and n["doors"] > 120
+    assert n["lights"] > 1000 and n["aps"] > 50 and n["pillars"] > 50
+    assert s.site.latitude == pytest.approx(30.29, abs=0.01)
+    assert s.site.longitude == pytest.approx(120.08, abs=0.01)
+    assert s.site.north_deg == 0.0
+    # Every door is cut into a glass shopfront.
+    glass = [LineString([w.start, w.to]) for w in s.walls if w.material == "glass"]
+    tree = shapely.STRtree(glass)
+    for d in s.doors:
+        assert len(tree.query(shapely.Point(d.position), predicate="dwithin", distance=0.01))
+
+
+@needs_ms_floor
+def test_ms_floor_round_trips_and_is_seeded(ms, tmp_path):
+    path = tmp_path / "ms.yaml"
+    text = dump_scenario(ms.scenario, path)
+    assert load_scenario(path) == ms.scenario
+    floor = read_ilc_floor(MS_FLOOR / "geojson_map.json", MS_FLOOR / "floor_info.json")
+    assert dump_scenario(import_ilc_floor(floor, seed=0).scenario) == text
+    assert dump_scenario(import_ilc_floor(floor, seed=1).scenario) != text
+
+
+@needs_ms_floor
+def test_ms_traces_become_routes_that_simulate(ms, ms_traces, tmp_path):
+    from indoorsim.simulate import simulate
+
+    result = add_trace_routes(ms, ms_traces)
+    assert set(result.kept) | set(result.left_out) == set(ms_traces)
+    assert len(result.kept) >= 14
+    for name, reason in result.left_out.items():
+        assert "passes through a wall" in reason, (name, reason)
+
+    def length(xy):
+        return np.linalg.norm(np.diff(np.asarray(xy), axis=0), axis=1).sum()
+
+    for name, notes in result.kept.items():
+        route, (waypoints, speed) = result.scenario.routes[name], ms_traces[name]
+        # The same duration: the trace's speed over the path walked.
+        duration = length(waypoints) / speed
+        assert length(route.waypoints) / route.speed == pytest.approx(duration, rel=1e-3)
+        if not notes:
+            assert np.allclose(route.waypoints, waypoints, atol=1e-3)
+    path = tmp_path / "ms.yaml"
+    dump_scenario(result.scenario, path)
+    assert load_scenario(path) == result.scenario
+    site = load_site(path)
+    # A route with a leg walked round a wall, when there is one (the whole path is
+    # planned before the walk is cut at 4 s).
+    name = min(result.kept, key=lambda n: (not result.kept[n], n))
+    rec = simulate(site, route=name, mode="handheld", device="nexus_5x", seed=0, duration_s=4.0)
+    start = np.asarray(result.scenario.routes[name].waypoints[0])
+    truth = rec.truth[["x", "y"]].to_numpy()
+    assert rec.duration > 3.0 and np.linalg.norm(truth[0] - start) < 1.0
