@@ -562,6 +562,14 @@ def evaluate(
     return ev
 
 
+REAL_DATA_PARAMS: dict[str, dict[str, Any]] = {
+    "han2023-pdr": {"mag_frame": "start"},
+    "learned-io": {"frame_offset": "start"},
+}
+"""Constructor parameters on real logs: their map is not tied to north, so the
+estimators that use magnetic north take its offset from the start heading."""
+
+
 def evaluate_recording(
     estimator: str,
     recording: Recording,

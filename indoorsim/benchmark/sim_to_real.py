@@ -1,5 +1,14 @@
 """Sim-to-real: what is tuned on indoorsim alone, measured on real phones.
 
+**Real traces and their twins** (:func:`twin_table`): every estimator that runs
+on a real log is scored on each Indoor Location Competition trace and on that
+trace's simulated twins — the floor imported from the competition's plan, the
+trace's waypoints as the route, the phone and walker fitted to the trace
+(:mod:`~indoorsim.benchmark.realism.calibrate`) — the same way, at the
+waypoints. The ratio of the real error to the simulated one, per estimator, and
+whether the estimators rank alike (Kendall's τ) say how far a leaderboard
+ranking carries over to real phones.
+
 **Step counts** (:func:`step_count_transfer`): the streaming peak–valley step
 detector (:class:`~indoorsim.estimators.pdr.steps.PeakStepDetector`, Han2023
 §2.1.1) has three settings — its low-pass cut-off, the shortest interval
@@ -22,13 +31,28 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
+from scipy.stats import kendalltau
 
+from indoorsim.benchmark.evaluation import (
+    REAL_DATA_PARAMS,
+    WalkResult,
+    evaluate_recording,
+)
+from indoorsim.benchmark.realism.calibrate import calibrate
 from indoorsim.benchmark.realism.reference import MODELLED_MODES
 from indoorsim.estimators.pdr.steps import PeakStepDetector
+from indoorsim.io.reallogs.ilc import read_ilc_trace
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.generate import generate
+from indoorsim.scenario.imports import (
+    add_trace_routes,
+    import_ilc_floor,
+    read_ilc_floor,
+    waypoint_speed,
+)
 from indoorsim.scenario.load import load_site
 from indoorsim.simulate import simulate
+from indoorsim.world.site import Site
 
 __all__ = [
     "STEP_GRID",
@@ -258,6 +282,207 @@ def write_step_transfer(out: Path, best: dict[str, float], errors: pd.DataFrame)
     return lines
 
 
+# ---------------------------------------------------------------------- real traces and twins
+
+ILC_FLOOR = Path("ms-indoor-location-2020", "site1", "F1")
+"""The Indoor Location Competition floor, under the real-data folder: plan and traces."""
+
+TWIN_ESTIMATORS = ("start-only", "pdr-basic", "han2023-pdr", "learned-io")
+"""The estimators that run on a real log (no floor plan, no surveys)."""
+TWIN_SEEDS = (0, 1, 2)
+TWIN_MODE: list[tuple[float, str, dict[str, float]]] = [(0.0, "handheld", {"pitch_deg": 0.0})]
+"""The traces' surveyors held the phone flat in front of the body."""
+TWIN_BASE_DEVICE = "mid_grade"
+"""What a trace's calibration cannot show (scale factors, bias drift, light) comes from it."""
+
+
+def passing_times(truth: pd.DataFrame, waypoints: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Index of the truth sample where the walker passes each waypoint, in order: the
+    body's closest approach to it, searched from the previous waypoint's on."""
+    body = truth[["body_x", "body_y"]].to_numpy(dtype=float)
+    out = np.empty(len(waypoints), dtype=np.int64)
+    start = 0
+    for i, p in enumerate(np.asarray(waypoints, dtype=float)):
+        d = np.linalg.norm(body[start:] - p, axis=1)
+        # The first approach within 0.5 m of the closest one, not a later pass by it.
+        near = np.flatnonzero(d <= d.min() + 0.5)
+        gaps = np.flatnonzero(np.diff(near) > 1)
+        end = near[gaps[0]] + 1 if len(gaps) else near[-1] + 1
+        out[i] = start + near[0] + int(np.argmin(d[near[0] : end]))
+        start = int(out[i])
+    return out
+
+
+def as_real_log(rec: Recording, waypoints: NDArray[np.float64]) -> Recording:
+    """A simulated walk as a real log shows it: no dense truth or steps, only the phone's
+    true position where it passes each of the route's waypoints."""
+    truth = rec.truth
+    at = passing_times(truth, waypoints)
+    marks = pd.DataFrame(
+        truth[["x", "y"]].to_numpy(dtype=float)[at],
+        columns=["x", "y"],
+        index=pd.Index(truth.index.to_numpy(dtype=float)[at], name="t"),
+    )
+    streams = {k: v for k, v in rec.streams.items() if k not in ("truth", "steps")}
+    return Recording._from_built(
+        {**streams, "waypoints": marks}, {"device": rec.meta.get("device", ""), "source": "twin"}
+    )
+
+
+def _path_ratio(result: WalkResult) -> float:
+    """Length of the estimated track through the scored times over the true one's."""
+    e = result.estimates
+    est = np.linalg.norm(np.diff(e[["x", "y"]].to_numpy(dtype=float), axis=0), axis=1).sum()
+    true = np.linalg.norm(np.diff(e[["true_x", "true_y"]].to_numpy(dtype=float), axis=0), axis=1)
+    return float(est / true.sum()) if true.sum() > 0 else float("nan")
+
+
+def _scores(estimator: str, rec: Recording) -> dict[str, float]:
+    result = evaluate_recording(estimator, rec, params=REAL_DATA_PARAMS.get(estimator))
+    return {
+        "ae": float(result.metrics["ae"]),
+        "rmse": float(result.metrics["rmse"]),
+        "path_ratio": _path_ratio(result),
+    }
+
+
+def twin_site(realdata: Path, *, seed: int = 0) -> tuple[Site, dict[str, Path], dict[str, str]]:
+    """The imported competition floor with one route per trace, the traces by route name,
+    and the traces left out (with why)."""
+    floor_dir = realdata / ILC_FLOOR
+    floor = read_ilc_floor(floor_dir / "geojson_map.json", floor_dir / "floor_info.json")
+    imported = import_ilc_floor(floor, seed=seed)
+    paths = {p.stem: p for p in sorted((floor_dir / "path_data_files").glob("*.txt"))}
+    traces = {}
+    for name, path in paths.items():
+        wp = read_ilc_trace(path).waypoints
+        xy = wp[["x", "y"]].to_numpy(dtype=float)
+        traces[name] = (xy.tolist(), waypoint_speed(xy, wp.index.to_numpy(dtype=float)))
+    routes = add_trace_routes(imported, traces)
+    kept = {name: paths[name] for name in routes.kept}
+    return load_site(routes.scenario), kept, routes.left_out
+
+
+def twin_table(
+    realdata: Path,
+    estimators: Sequence[str] = TWIN_ESTIMATORS,
+    seeds: Sequence[int] = TWIN_SEEDS,
+    *,
+    progress: Progress | None = None,
+) -> tuple[pd.DataFrame, dict[str, str]]:
+    """Every estimator on each real trace and on its simulated twins: one row per
+    (trace, estimator, data, seed), and the traces without a twin.
+
+    A twin walks the trace's route in the imported floor, flat in the hand, with the
+    phone and walker :func:`~indoorsim.benchmark.realism.calibrate.calibrate` fits to
+    the trace (its rates, timing, WiFi scanning, walking speed and height); it is then
+    scored as the trace is, at the times it passes the trace's waypoints, starting
+    from the first heading to the second.
+    """
+    if progress:
+        progress("sim-to-real: importing the floor")
+    site, traces, left_out = twin_site(realdata)
+    rows = []
+    for name, path in traces.items():
+        real = Recording.load(path)
+        cal = calibrate(real, name=f"twin of {name}", base=TWIN_BASE_DEVICE)
+        waypoints = np.asarray(site.scenario.routes[name].waypoints, dtype=float)
+        for est in estimators:
+            if progress:
+                progress(f"sim-to-real {name} {est} real")
+            rows.append({"trace": name, "estimator": est, "data": "real", "seed": -1})
+            rows[-1] |= _scores(est, real)
+        for seed in seeds:
+            if progress:
+                progress(f"sim-to-real {name} twin seed {seed}")
+            walk = simulate(
+                site, route=name, mode=TWIN_MODE, device=cal.device, walker=cal.walker, seed=seed
+            )
+            twin = as_real_log(walk, waypoints)
+            for est in estimators:
+                rows.append({"trace": name, "estimator": est, "data": "sim", "seed": seed})
+                rows[-1] |= _scores(est, twin)
+    return pd.DataFrame(rows), left_out
+
+
+def twin_summary(table: pd.DataFrame) -> tuple[pd.DataFrame, float]:
+    """Per estimator: mean error real and simulated, their ratio, the walked-distance
+    ratios; and Kendall's τ between the estimators' rankings on real and simulated data."""
+    per_trace = table.groupby(["estimator", "data", "trace"], sort=False)[
+        ["ae", "rmse", "path_ratio"]
+    ].mean()
+    summary = per_trace.groupby(["estimator", "data"], sort=False).mean().unstack("data")
+    out = pd.DataFrame(
+        {
+            "estimator": summary.index,
+            "ae_real": summary[("ae", "real")].to_numpy(),
+            "ae_sim": summary[("ae", "sim")].to_numpy(),
+            "path_ratio_real": summary[("path_ratio", "real")].to_numpy(),
+            "path_ratio_sim": summary[("path_ratio", "sim")].to_numpy(),
+        }
+    )
+    out["ratio"] = out["ae_real"] / out["ae_sim"]
+    tau = float(kendalltau(out["ae_real"], out["ae_sim"]).statistic) if len(out) > 1 else np.nan
+    return out, tau
+
+
+def _plot_twins(table: pd.DataFrame, path: Path) -> None:
+    from indoorsim.plots import plot_sim_to_real
+
+    per_trace = table.groupby(["estimator", "data", "trace"], sort=False)["ae"].mean()
+    errors = {}
+    for name in dict.fromkeys(table["estimator"]):
+        real = per_trace.loc[(name, "real")]
+        errors[name] = (
+            real.to_numpy(),
+            per_trace.loc[(name, "sim")].reindex(real.index).to_numpy(),
+        )
+    plot_sim_to_real(errors).savefig(path, dpi=110)
+
+
+def write_twin_section(out: Path, table: pd.DataFrame, left_out: dict[str, str]) -> list[str]:
+    """``sim_to_real_twins.csv`` and ``sim_to_real.png``; returns the Markdown section."""
+    table.to_csv(out / "sim_to_real_twins.csv", index=False)
+    summary, tau = twin_summary(table)
+    _plot_twins(table, out / "sim_to_real.png")
+    traces = table["trace"].nunique()
+    seeds = table.loc[table["data"] == "sim", "seed"].nunique()
+    lines = [
+        "## Real traces and their simulated twins",
+        "",
+        f"The {traces} Indoor Location Competition traces (MIT; site 1, floor F1) and, for "
+        f"each, {seeds} simulated twins: the floor imported by `indoorsim import-plan`, "
+        "the trace's waypoints as the route, the phone held flat, and the phone and walker "
+        "`indoorsim calibrate` fits to the trace. Both scored the same way, at the "
+        "waypoints, from the first waypoint heading to the second. Mean absolute error (m) "
+        "over traces (twins: their seeds' mean per trace first); the walked-distance ratio "
+        "is the estimated track's length through the waypoint times over the true one's.",
+        "",
+        "| estimator | error real (m) | error sim (m) | real / sim | distance ratio real "
+        "| distance ratio sim |",
+        "|---|---|---|---|---|---|",
+    ]
+    for _, r in summary.iterrows():
+        inside = "" if 0.8 <= r["ratio"] <= 1.25 else " (outside 0.8–1.25)"
+        lines.append(
+            f"| {r['estimator']} | {r['ae_real']:.2f} | {r['ae_sim']:.2f} | "
+            f"{r['ratio']:.2f}{inside} | {r['path_ratio_real']:.2f} | {r['path_ratio_sim']:.2f} |"
+        )
+    lines += [
+        "",
+        f"Kendall's τ between the estimators' rankings on real and simulated data: {tau:.2f} "
+        "(1: the same order).",
+        "",
+        "![real against simulated error per trace](sim_to_real.png)",
+        "",
+    ]
+    if left_out:
+        lines += ["Traces without a twin:", ""]
+        lines += [f"- {name}: {why}" for name, why in sorted(left_out.items())]
+        lines.append("")
+    return lines
+
+
 OXFORD = Path("oxford-stepcounter")
 """The Oxford step-counter walks, under the real-data folder."""
 
@@ -269,11 +494,17 @@ def write_sim_to_real(out: Path, realdata: Path, *, progress: Progress | None = 
     lines = [
         "# Sim-to-real: tuned on indoorsim, measured on real phones",
         "",
-        "What is learned or tuned on simulated data alone, run unchanged on real "
-        "recordings (`shared/realdata`). Regenerated by `indoorsim leaderboard` "
-        "(alone: `indoorsim leaderboard --sim-to-real-only`).",
+        "Estimators on real recordings beside their simulated twins, and what is tuned "
+        "on simulated data alone run unchanged on real recordings (`shared/realdata`). "
+        "Regenerated by `indoorsim leaderboard` (alone: `indoorsim leaderboard "
+        "--sim-to-real-only`).",
         "",
     ]
+    if (realdata / ILC_FLOOR).is_dir():
+        table, left_out = twin_table(realdata, progress=progress)
+        lines += write_twin_section(out, table, left_out)
+    else:
+        lines += [f"No competition floor under {realdata}: no table of twins.", ""]
     if (realdata / OXFORD).is_dir():
         best, errors = step_count_transfer(realdata / OXFORD, progress=progress)
         lines += write_step_transfer(out, best, errors)

@@ -12,7 +12,7 @@ Modules:
   walk or a real phone log.
 * :mod:`~indoorsim.plots.results` — :func:`plot_error_cdfs`,
   :func:`plot_tracks`, :func:`plot_named_cdfs`, :func:`plot_training_curves`,
-  :func:`plot_realism_profiles`, :func:`plot_robustness`.
+  :func:`plot_realism_profiles`, :func:`plot_robustness`, :func:`plot_sim_to_real`.
 
 The public functions are re-exported here (``from indoorsim.plots import
 draw_plan``). Every figure is a free-standing :class:`matplotlib.figure.Figure`
@@ -34,6 +34,7 @@ from indoorsim.plots.results import (
     plot_named_cdfs,
     plot_realism_profiles,
     plot_robustness,
+    plot_sim_to_real,
     plot_tracks,
     plot_training_curves,
 )
@@ -59,6 +60,7 @@ __all__ = [
     "plot_recording_streams",
     "plot_recording_track",
     "plot_robustness",
+    "plot_sim_to_real",
     "plot_site_fields",
     "plot_site_map",
     "plot_tracks",

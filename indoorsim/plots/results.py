@@ -347,3 +347,25 @@ def plot_robustness(panels: Mapping[str, tuple[Any, Any]]) -> Figure:
     bar.set_ticks(ticks, labels=[f"{2.0**t:g}×" for t in ticks])
     bar.ax.tick_params(labelsize=7)
     return fig
+
+
+def plot_sim_to_real(errors: Mapping[str, tuple[Any, Any]]) -> Figure:
+    """Each real trace's error against its simulated twins', one panel per estimator.
+
+    Args:
+        errors: per estimator, two arrays over the same traces: the error on the real
+            trace and the mean error of its twins (m).
+    """
+    fig = agg_figure((3.2 * len(errors), 3.4))
+    axes = fig.subplots(1, len(errors), squeeze=False)[0]
+    colours = _estimator_colours(errors)
+    for ax, (name, (real, sim)) in zip(axes, errors.items(), strict=True):
+        real, sim = np.asarray(real, dtype=float), np.asarray(sim, dtype=float)
+        top = 1.1 * float(np.nanmax([*real, *sim, 1.0]))
+        ax.plot([0, top], [0, top], color="0.6", lw=0.8, label="real = sim")
+        ax.scatter(real, sim, s=14, color=colours[name], zorder=3)
+        ax.set(xlim=(0, top), ylim=(0, top), title=name, xlabel="real trace error (m)")
+        ax.set_aspect("equal")
+    axes[0].set_ylabel("simulated twins' error (m)")
+    fig.tight_layout()
+    return fig

@@ -3,14 +3,20 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from indoorsim.benchmark.sim_to_real import (
     StepWalk,
+    as_real_log,
     count_steps,
+    passing_times,
     tune_step_detector,
+    twin_summary,
     write_sim_to_real,
 )
+from indoorsim.scenario.load import load_site
+from indoorsim.simulate import simulate
 
 G = 9.80665
 
@@ -61,4 +67,58 @@ def test_tuning_picks_a_setting_inside_the_good_region_not_on_its_edge():
 def test_without_real_walks_the_report_says_so(tmp_path):
     seconds = write_sim_to_real(tmp_path, tmp_path / "nothing-here")
     text = (tmp_path / "sim_to_real.md").read_text()
-    assert "No Oxford step-counter walks" in text and seconds >= 0
+    assert "No Oxford step-counter walks" in text and "No competition floor" in text
+    assert seconds >= 0
+
+
+def test_passing_times_find_each_waypoint_in_order_even_on_a_walk_back():
+    # Out along x and back: the first waypoint is passed twice; the first pass counts.
+    x = np.r_[np.linspace(0, 10, 101), np.linspace(10, 0, 101)[1:]]
+    truth = pd.DataFrame({"body_x": x, "body_y": np.zeros_like(x)})
+    at = passing_times(truth, np.array([[2.0, 0.0], [10.0, 0.0], [2.0, 0.0]]))
+    np.testing.assert_array_equal(at, [20, 100, 180])
+
+
+def test_a_twin_is_scored_as_a_real_log_at_its_waypoints():
+    rec = simulate(load_site("minimal_room"), route="main", device="nexus_5x", seed=0)
+    route = load_site("minimal_room").scenario.routes["main"]
+    twin = as_real_log(rec, np.asarray(route.waypoints, dtype=float))
+    assert "truth" not in twin.streams and "steps" not in twin.streams
+    marks = twin.waypoints[["x", "y"]].to_numpy()
+    assert len(marks) == len(route.waypoints)
+    # The phone passes each waypoint within the body's clearance and arm's reach.
+    assert np.linalg.norm(marks - np.asarray(route.waypoints), axis=1).max() < 1.0
+    assert np.all(np.diff(twin.waypoints.index.to_numpy()) > 0)
+
+
+def test_the_summary_gives_each_estimators_real_to_sim_ratio_and_the_rank_agreement():
+    rows = []
+    for est, real, sim in (("a", 2.0, 1.0), ("b", 3.0, 3.0), ("c", 4.0, 5.0)):
+        for trace in ("t1", "t2"):
+            rows.append(
+                {
+                    "trace": trace,
+                    "estimator": est,
+                    "data": "real",
+                    "seed": -1,
+                    "ae": real,
+                    "rmse": real,
+                    "path_ratio": 1.0,
+                }
+            )
+            for seed, jitter in ((0, -0.5), (1, 0.5)):
+                rows.append(
+                    {
+                        "trace": trace,
+                        "estimator": est,
+                        "data": "sim",
+                        "seed": seed,
+                        "ae": sim + jitter,
+                        "rmse": sim,
+                        "path_ratio": 0.9,
+                    }
+                )
+    summary, tau = twin_summary(pd.DataFrame(rows))
+    assert list(summary["ratio"].round(6)) == [2.0, 1.0, 0.8]
+    assert tau == pytest.approx(1.0)  # the same order on both
+    assert (summary["path_ratio_sim"] == 0.9).all()
