@@ -39,6 +39,7 @@ from indoorsim.benchmark.evaluation import (
     evaluate_recording,
 )
 from indoorsim.benchmark.realism.calibrate import calibrate
+from indoorsim.benchmark.realism.motion import motion_statistics
 from indoorsim.benchmark.realism.reference import MODELLED_MODES
 from indoorsim.estimators.pdr.steps import PeakStepDetector
 from indoorsim.io.reallogs.ilc import read_ilc_trace
@@ -55,15 +56,25 @@ from indoorsim.simulate import simulate
 from indoorsim.world.site import Site
 
 __all__ = [
+    "SIGNALS",
     "STEP_GRID",
+    "TWIN_ESTIMATORS",
     "StepWalk",
+    "TwinResults",
+    "as_real_log",
     "count_steps",
     "oxford_step_walks",
+    "passing_times",
     "simulated_step_walks",
     "step_count_transfer",
     "tune_step_detector",
+    "twin_site",
+    "twin_summary",
+    "twin_table",
+    "walk_signals",
     "write_sim_to_real",
     "write_step_transfer",
+    "write_twin_section",
 ]
 
 Progress = Callable[[str], None]
@@ -337,6 +348,33 @@ def _path_ratio(result: WalkResult) -> float:
     return float(est / true.sum()) if true.sum() > 0 else float("nan")
 
 
+def walk_signals(rec: Recording) -> dict[str, float]:
+    """What the phone felt between the first and the last waypoint: the step rate, ‖a‖'s
+    std while walking (:mod:`~indoorsim.benchmark.realism.motion`), the median swing
+    of one step of the low-passed ‖a‖ (peak to valley, the input of Weinberg's step
+    length), and the largest gyro axis's RMS."""
+    stats = motion_statistics(rec)
+    t = rec.accel.index.to_numpy(dtype=float)
+    first, last = (float(v) for v in rec.waypoints.index[[0, -1]])
+    steps = PeakStepDetector().update(t, rec.accel[["x", "y", "z"]].to_numpy(dtype=float))
+    swings = [s.a_max - s.a_min for s in steps if first <= s.t <= last]
+    return {
+        "step_hz": stats["step_hz"],
+        "acc_std": stats["acc_std"],
+        "step_swing": float(np.median(swings)) if swings else float("nan"),
+        "gyro_rms_1": stats["gyro_rms_1"],
+    }
+
+
+SIGNALS = {
+    "step_hz": "step rate (Hz)",
+    "acc_std": "‖a‖ std while walking (m/s²)",
+    "step_swing": "swing of low-passed ‖a‖ per step (m/s²)",
+    "gyro_rms_1": "gyro RMS, largest axis (rad/s)",
+}
+"""The signal statistics the twin table compares (:func:`walk_signals`)."""
+
+
 def _scores(estimator: str, rec: Recording) -> dict[str, float]:
     result = evaluate_recording(estimator, rec, params=REAL_DATA_PARAMS.get(estimator))
     return {
@@ -363,15 +401,27 @@ def twin_site(realdata: Path, *, seed: int = 0) -> tuple[Site, dict[str, Path], 
     return load_site(routes.scenario), kept, routes.left_out
 
 
+@dataclass(frozen=True, kw_only=True)
+class TwinResults:
+    """:func:`twin_table`'s tables."""
+
+    scores: pd.DataFrame
+    """One row per (trace, estimator, data ``real``/``sim``, seed): ae, rmse, path_ratio."""
+    signals: pd.DataFrame
+    """One row per (trace, data, seed): :func:`walk_signals`."""
+    left_out: dict[str, str]
+    """Traces without a twin, and why."""
+
+
 def twin_table(
     realdata: Path,
     estimators: Sequence[str] = TWIN_ESTIMATORS,
     seeds: Sequence[int] = TWIN_SEEDS,
     *,
     progress: Progress | None = None,
-) -> tuple[pd.DataFrame, dict[str, str]]:
-    """Every estimator on each real trace and on its simulated twins: one row per
-    (trace, estimator, data, seed), and the traces without a twin.
+) -> TwinResults:
+    """Every estimator on each real trace and on its simulated twins, and what the
+    phones felt on each.
 
     A twin walks the trace's route in the imported floor, flat in the hand, with the
     phone and walker :func:`~indoorsim.benchmark.realism.calibrate.calibrate` fits to
@@ -382,7 +432,8 @@ def twin_table(
     if progress:
         progress("sim-to-real: importing the floor")
     site, traces, left_out = twin_site(realdata)
-    rows = []
+    rows: list[dict] = []
+    signals: list[dict] = []
     for name, path in traces.items():
         real = Recording.load(path)
         cal = calibrate(real, name=f"twin of {name}", base=TWIN_BASE_DEVICE)
@@ -392,6 +443,7 @@ def twin_table(
                 progress(f"sim-to-real {name} {est} real")
             rows.append({"trace": name, "estimator": est, "data": "real", "seed": -1})
             rows[-1] |= _scores(est, real)
+        signals.append({"trace": name, "data": "real", "seed": -1} | walk_signals(real))
         for seed in seeds:
             if progress:
                 progress(f"sim-to-real {name} twin seed {seed}")
@@ -399,10 +451,11 @@ def twin_table(
                 site, route=name, mode=TWIN_MODE, device=cal.device, walker=cal.walker, seed=seed
             )
             twin = as_real_log(walk, waypoints)
+            signals.append({"trace": name, "data": "sim", "seed": seed} | walk_signals(twin))
             for est in estimators:
                 rows.append({"trace": name, "estimator": est, "data": "sim", "seed": seed})
                 rows[-1] |= _scores(est, twin)
-    return pd.DataFrame(rows), left_out
+    return TwinResults(scores=pd.DataFrame(rows), signals=pd.DataFrame(signals), left_out=left_out)
 
 
 def twin_summary(table: pd.DataFrame) -> tuple[pd.DataFrame, float]:
@@ -440,9 +493,12 @@ def _plot_twins(table: pd.DataFrame, path: Path) -> None:
     plot_sim_to_real(errors).savefig(path, dpi=110)
 
 
-def write_twin_section(out: Path, table: pd.DataFrame, left_out: dict[str, str]) -> list[str]:
-    """``sim_to_real_twins.csv`` and ``sim_to_real.png``; returns the Markdown section."""
+def write_twin_section(out: Path, results: TwinResults) -> list[str]:
+    """``sim_to_real_twins.csv``, ``sim_to_real_signals.csv`` and ``sim_to_real.png``;
+    returns the Markdown section."""
+    table, left_out = results.scores, results.left_out
     table.to_csv(out / "sim_to_real_twins.csv", index=False)
+    results.signals.to_csv(out / "sim_to_real_signals.csv", index=False)
     summary, tau = twin_summary(table)
     _plot_twins(table, out / "sim_to_real.png")
     traces = table["trace"].nunique()
@@ -475,7 +531,18 @@ def write_twin_section(out: Path, table: pd.DataFrame, left_out: dict[str, str])
         "",
         "![real against simulated error per trace](sim_to_real.png)",
         "",
+        "What the phones felt between the first and the last waypoint (median over "
+        "traces; twins: their seeds' mean per trace first):",
+        "",
+        "| signal | real | sim | real / sim |",
+        "|---|---|---|---|",
     ]
+    per_trace = results.signals.groupby(["data", "trace"])[list(SIGNALS)].mean()
+    for key, label in SIGNALS.items():
+        real = float(per_trace.loc["real", key].median())
+        sim = float(per_trace.loc["sim", key].median())
+        lines.append(f"| {label} | {real:.3g} | {sim:.3g} | {real / sim:.2f} |")
+    lines.append("")
     if left_out:
         lines += ["Traces without a twin:", ""]
         lines += [f"- {name}: {why}" for name, why in sorted(left_out.items())]
@@ -501,8 +568,7 @@ def write_sim_to_real(out: Path, realdata: Path, *, progress: Progress | None = 
         "",
     ]
     if (realdata / ILC_FLOOR).is_dir():
-        table, left_out = twin_table(realdata, progress=progress)
-        lines += write_twin_section(out, table, left_out)
+        lines += write_twin_section(out, twin_table(realdata, progress=progress))
     else:
         lines += [f"No competition floor under {realdata}: no table of twins.", ""]
     if (realdata / OXFORD).is_dir():
