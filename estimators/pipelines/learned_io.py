@@ -30,7 +30,7 @@ training; the commands, per-epoch losses and versions are in its ``model.json``)
 leaderboard's buildings are unseen), six phone models, four carrying modes
 with changes, the IMU at 50 Hz in 2 s windows every 1 s: 26 814 windows,
 24 sites to train on, 3 to validate, 3 to test. Final losses (m²/s², mean
-of both velocity components): train 0.0272, val 0.0419, test 0.0183 — an
+of both velocity components): train 0.0271, val 0.0430, test 0.0197 — an
 RMS velocity error of about 0.14 m/s per axis on the test buildings. Training is deterministic on
 CPU: the command gives the same ``weights.pt`` bytes for the same
 ``--threads`` and ``--workers`` (add ``--overwrite`` to retrain in place).
