@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v1`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v2`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -207,11 +207,15 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       (no reward changed): an action outside the action space raises
       ``ValueError``, where it was scored as it was; the ``faults`` argument
       (default none: the same walks as before).
+    - v2: the simulated walks changed (the held phone at the reader's eyes' distance
+      and gaze, the pocket's hip rotation and rocking, the handset's and the APs'
+      antenna patterns, car parks with half their aisle lights off): a seed gives
+      other observations and errors. Spaces, rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v1")
+        >>> env = gym.make("indoorsim/MinimalRoom-v2")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)
