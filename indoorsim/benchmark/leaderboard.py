@@ -36,7 +36,7 @@ from indoorsim.benchmark.evaluation import (
 from indoorsim.benchmark.realism.report import RealismConfig, run_realism
 from indoorsim.benchmark.results_site import write_site
 from indoorsim.benchmark.robustness import RobustnessConfig, run_robustness, write_robustness
-from indoorsim.benchmark.sim_to_real import write_sim_to_real
+from indoorsim.benchmark.sim_to_real import count_steps, oxford_step_walks, write_sim_to_real
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
 from indoorsim.util.provenance import REPO, git_revision, realdata_dir
@@ -350,29 +350,19 @@ def step_count_table(
     reference device's count, for each carrying position. The whole walk is fed
     to the streaming detector in one piece.
     """
-    from indoorsim.estimators.pdr.steps import PeakStepDetector
-
-    paths = sorted(p for p in (oxford_dir / "optimisation").iterdir() if p.is_dir())
-    paths += sorted((oxford_dir / "validation").glob("*.csv"))
     rows = []
-    for path in paths:
-        if progress:
-            progress(f"step counts {path.name}")
-        rec = Recording.load(path)
-        acc = rec.accel
+    for walk in oxford_step_walks(oxford_dir, progress=progress):
         for interval in min_intervals_s:
-            det = PeakStepDetector(min_interval_s=interval)
-            n = len(det.update(acc.index.to_numpy(dtype=float), acc[["x", "y", "z"]].to_numpy()))
-            true = len(rec.steps)
+            n = count_steps(walk, min_interval_s=interval)
             rows.append(
                 {
-                    "walk": path.name,
-                    "position": rec.meta.get("position", ""),
-                    "mode": rec.meta.get("mode", ""),
+                    "walk": walk.name,
+                    "position": walk.position,
+                    "mode": walk.mode,
                     "min_interval_s": interval,
-                    "true_steps": true,
+                    "true_steps": walk.true_steps,
                     "detected": n,
-                    "error_pct": 100.0 * (n - true) / true,
+                    "error_pct": 100.0 * (n - walk.true_steps) / walk.true_steps,
                 }
             )
     return pd.DataFrame(rows)

@@ -146,12 +146,14 @@ def simulated_step_walks(
     return walks
 
 
-def oxford_step_walks(oxford_dir: Path) -> list[StepWalk]:
+def oxford_step_walks(oxford_dir: Path, *, progress: Progress | None = None) -> list[StepWalk]:
     """The Oxford step-counter walks (optimisation and validation sets)."""
     paths = sorted(p for p in (oxford_dir / "optimisation").iterdir() if p.is_dir())
     paths += sorted((oxford_dir / "validation").glob("*.csv"))
     walks = []
     for path in paths:
+        if progress:
+            progress(f"step counts {path.name}")
         rec = Recording.load(path)
         mode = str(rec.meta.get("mode", ""))
         walks.append(_walk(rec, "real", path.name, mode, str(rec.meta.get("position", mode))))

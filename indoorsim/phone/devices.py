@@ -40,8 +40,6 @@ from importlib.metadata import entry_points
 from pathlib import Path
 from types import MappingProxyType
 
-import yaml
-
 from indoorsim.phone.specs import (
     DEG,
     DEG_PER_H,
@@ -60,6 +58,7 @@ from indoorsim.phone.specs import (
     device_to_dict,
 )
 from indoorsim.util.errors import UnknownNameError
+from indoorsim.util.yaml_files import read_yaml_section
 
 __all__ = [
     "DEG",
@@ -701,15 +700,7 @@ def available_devices() -> dict[str, DeviceProfile]:
 def _load_device_file(path: Path) -> DeviceProfile:
     """The profile in a YAML file: the profile's fields, or under a ``device:`` key (the
     layout ``indoorsim calibrate`` writes, beside ``walker:``)."""
-    try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except OSError as err:
-        raise DeviceFileError(f"{path}: cannot read: {err.strerror or err}") from None
-    except yaml.YAMLError as err:
-        raise DeviceFileError(f"{path}: not valid YAML: {err}") from None
-    if isinstance(data, Mapping) and "device" in data:
-        data = data["device"]
-    return device_from_dict(data, source=str(path))
+    return device_from_dict(read_yaml_section(path, "device", DeviceFileError), source=str(path))
 
 
 def get_device(name: str) -> DeviceProfile:

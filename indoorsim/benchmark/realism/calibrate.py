@@ -53,10 +53,11 @@ from numpy.typing import NDArray
 from scipy.signal import welch
 
 from indoorsim.benchmark.realism.motion import walking_signals
-from indoorsim.benchmark.realism.stats import peak_frequency
+from indoorsim.benchmark.realism.stats import long_runs, moving_std, peak_frequency
 from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import get_device
 from indoorsim.phone.specs import DeviceProfile, device_from_dict, device_to_dict
+from indoorsim.util.yaml_files import read_yaml_section
 from indoorsim.walker.gait import WalkerParams, step_length_m
 
 __all__ = [
@@ -117,12 +118,6 @@ def stream_timing(t: NDArray[np.float64]) -> tuple[float, float, float]:
     return 1.0 / period, jitter, gaps
 
 
-def _moving_std(x: NDArray[np.float64], n: int) -> NDArray[np.float64]:
-    kernel = np.ones(n) / n
-    mean = np.convolve(x, kernel, mode="same")
-    return np.sqrt(np.maximum(np.convolve(x**2, kernel, mode="same") - mean**2, 0.0))
-
-
 def still_mask(
     accel: NDArray[np.float64], gyro: NDArray[np.float64] | None, rate_hz: float
 ) -> NDArray[np.bool_]:
@@ -130,17 +125,11 @@ def still_mask(
     and ‖ω‖ under :data:`STILL_GYRO` over :data:`STILL_WINDOW_S`, in runs of at least
     :data:`MIN_STILL_S` (each run's first and last half window trimmed)."""
     n = max(3, round(STILL_WINDOW_S * rate_hz))
-    still = _moving_std(np.linalg.norm(accel, axis=1), n) < STILL_ACCEL_STD
+    still = moving_std(np.linalg.norm(accel, axis=1), n) < STILL_ACCEL_STD
     if gyro is not None:
         turn = np.convolve(np.linalg.norm(gyro, axis=1), np.ones(n) / n, mode="same")
         still &= turn < STILL_GYRO
-    out = np.zeros_like(still)
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], still.view(np.int8), [0]])))
-    half = n // 2
-    for a, b in zip(edges[::2], edges[1::2], strict=True):
-        if (b - a) / rate_hz >= MIN_STILL_S:
-            out[a + half : b - half] = True
-    return out
+    return long_runs(still, rate_hz, MIN_STILL_S, trim=n // 2)
 
 
 def white_noise_density(
@@ -179,7 +168,6 @@ def _still_runs(
     samples' times on a clock of ``step`` s), split where the stillness breaks."""
     if not len(still_t):
         return []
-    inside = np.zeros(len(t), dtype=bool)
     idx = np.clip(np.searchsorted(still_t, t), 1, len(still_t) - 1)
     near = np.minimum(np.abs(still_t[idx] - t), np.abs(still_t[idx - 1] - t))
     inside = near <= step
@@ -386,14 +374,7 @@ def load_walker(path: str | Path) -> WalkerParams:
         CalibrationError: unreadable file, unknown fields or values out of range.
     """
     source = Path(path)
-    try:
-        data = yaml.safe_load(source.read_text(encoding="utf-8"))
-    except OSError as err:
-        raise CalibrationError(f"{source}: cannot read: {err.strerror or err}") from None
-    except yaml.YAMLError as err:
-        raise CalibrationError(f"{source}: not valid YAML: {err}") from None
-    if isinstance(data, Mapping) and "walker" in data:
-        data = data["walker"]
+    data = read_yaml_section(source, "walker", CalibrationError)
     if not isinstance(data, Mapping):
         raise CalibrationError(f"{source}: expected a mapping of walker fields")
     known = {f.name for f in dataclasses.fields(WalkerParams)}

@@ -35,6 +35,8 @@ __all__ = [
     "dominant_frequency",
     "excess_kurtosis",
     "harmonic_shares",
+    "long_runs",
+    "moving_std",
     "peak_frequency",
     "peak_to_peak_per_period",
     "resample_uniform",
@@ -211,14 +213,25 @@ def walking_mask(
     """
     arr = _series(accel_norm, "accel_norm")
     n = max(3, round(window_s * rate_hz))
+    return long_runs(moving_std(arr, n) > min_std, rate_hz, min_run_s, trim=n // 2)
+
+
+def moving_std(x: NDArray[np.float64], n: int) -> NDArray[np.float64]:
+    """Standard deviation of ``x`` over a centred window of ``n`` samples (``same`` length)."""
     kernel = np.ones(n) / n
-    mean = np.convolve(arr, kernel, mode="same")
-    var = np.convolve(arr**2, kernel, mode="same") - mean**2
-    walking = np.sqrt(np.maximum(var, 0.0)) > min_std
-    out = np.zeros_like(walking)
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], walking.view(np.int8), [0]])))
-    half = n // 2
+    mean = np.convolve(x, kernel, mode="same")
+    var = np.convolve(x**2, kernel, mode="same") - mean**2
+    return np.sqrt(np.maximum(var, 0.0))
+
+
+def long_runs(
+    mask: NDArray[np.bool_], rate_hz: float, min_run_s: float, *, trim: int
+) -> NDArray[np.bool_]:
+    """The runs of ``mask`` that last at least ``min_run_s``, each with ``trim`` samples
+    cut from both ends (the half window that straddles its edge)."""
+    out = np.zeros_like(mask)
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.view(np.int8), [0]])))
     for a, b in zip(edges[::2], edges[1::2], strict=True):
         if (b - a) / rate_hz >= min_run_s:
-            out[a + half : b - half] = True
+            out[a + trim : b - trim] = True
     return out
