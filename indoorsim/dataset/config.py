@@ -124,10 +124,12 @@ class DatasetConfig(_Strict):
     seed: Annotated[int, Field(ge=0)] = 0
     """Seeds every random choice of the plan and every walk."""
     bundled: list[str] | None = None
-    """Bundled scenarios the sites may be drawn from; None: every bundled scenario."""
+    """Scenarios the sites may be drawn from: bundled scenario names, or scenario
+    YAML files such as ``indoorsim import-plan`` writes for a real building (paths
+    relative to the working directory); None: every bundled scenario."""
     bundled_share: Annotated[float, Field(ge=0, le=1)] = 0.25
     """Fraction of the sites taken from ``bundled`` (rounded; at most one site per
-    bundled scenario); the others are generated."""
+    scenario); the others are generated."""
     generated_kinds: list[str] = list(DEFAULT_KINDS)
     """Kinds of procedurally generated buildings, used in turn."""
     modes: Annotated[list[str], Field(min_length=1)] = list(DEFAULT_MODES)
@@ -208,7 +210,12 @@ class DatasetConfig(_Strict):
             get_device,
         )
         from indoorsim.scenario.generate import KINDS, UnknownKindError
-        from indoorsim.scenario.load import UnknownScenarioError, bundled_scenarios
+        from indoorsim.scenario.load import (
+            ScenarioError,
+            UnknownScenarioError,
+            bundled_scenarios,
+            load_scenario,
+        )
         from indoorsim.walker.modes import UnknownModeError, available_modes, mode_fields
 
         problems: list[tuple[str, str]] = []
@@ -222,11 +229,17 @@ class DatasetConfig(_Strict):
         )
         for key, names, valid, unknown in checks:
             for i, name in enumerate(names):
-                if key == "devices" and name.endswith((".yaml", ".yml")):
+                if key == "devices" and is_yaml_file(name):
                     # A profile file, as `indoorsim calibrate` writes: it must load.
                     try:
                         get_device(name)
                     except DeviceFileError as err:
+                        problems.append((f"{key}[{i}]", str(err)))
+                elif key == "bundled" and is_yaml_file(name):
+                    # A scenario file, as `indoorsim import-plan` writes: it must load.
+                    try:
+                        load_scenario(name)
+                    except ScenarioError as err:
                         problems.append((f"{key}[{i}]", str(err)))
                 elif name not in valid:
                     problems.append((f"{key}[{i}]", str(unknown(name, valid))))
@@ -262,6 +275,11 @@ class DatasetConfig(_Strict):
         """How many sites come from the bundled scenarios (needs :meth:`resolved`)."""
         names = self.bundled or []
         return min(round(self.sites * self.bundled_share), len(names))
+
+
+def is_yaml_file(name: str) -> bool:
+    """Whether a ``bundled`` or ``devices`` entry names a YAML file rather than a built-in."""
+    return name.endswith((".yaml", ".yml"))
 
 
 def validate_config(data: Mapping[str, Any], source: str) -> DatasetConfig:

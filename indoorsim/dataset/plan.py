@@ -9,8 +9,9 @@ walk index)`` for a walk — never by shard, worker or execution order. Changing
 ``walks_per_shard`` regroups the same walks; adding sites or walks leaves the
 existing ones as they were.
 
-Sites: the first ``round(sites · bundled_share)`` come from the bundled
-scenarios (a seeded permutation of ``bundled``, so each is used at most once),
+Sites: the first ``round(sites · bundled_share)`` come from the scenarios of
+``bundled`` — bundled names or scenario files such as an imported real floor —
+(a seeded permutation of them, so each is used at most once),
 the others are procedural buildings whose kinds take turns through
 ``generated_kinds``, each from its own generator seed.
 
@@ -31,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from indoorsim.dataset.config import DatasetConfig, Range
+from indoorsim.dataset.config import DatasetConfig, Range, is_yaml_file
 from indoorsim.util.seeding import generator
 from indoorsim.walker.schedule import ModeSchedule
 
@@ -54,10 +55,11 @@ class SiteSpec:
 
     Attributes:
         index: position in the plan (0-based).
-        id: the site's name: the bundled scenario's name, or ``{kind}-{seed}``
-            for a generated one (the generated scenario's own name).
-        source: ``"bundled"`` or ``"generated"``.
-        kind: the generated kind, or ``"bundled"``.
+        id: the site's name: the bundled scenario's name, the scenario file's path
+            as the configuration gives it, or ``{kind}-{seed}`` for a generated one
+            (the generated scenario's own name).
+        source: ``"bundled"``, ``"file"`` or ``"generated"``.
+        kind: the generated kind, or ``"bundled"`` or ``"file"``.
         generator_seed: the seed passed to ``generate`` (None when bundled).
     """
 
@@ -176,10 +178,11 @@ def _sites(config: DatasetConfig) -> tuple[SiteSpec, ...]:
     bundled = list(config.bundled or [])
     n_bundled = config.bundled_sites
     order = _rng(config.seed, _BUNDLED_ORDER).permutation(len(bundled))
-    out = [
-        SiteSpec(index=i, id=bundled[order[i]], source="bundled", kind="bundled")
-        for i in range(n_bundled)
-    ]
+    out = []
+    for i in range(n_bundled):
+        name = bundled[order[i]]
+        source = "file" if is_yaml_file(name) else "bundled"
+        out.append(SiteSpec(index=i, id=name, source=source, kind=source))
     used = {s.id for s in out}
     kinds = config.generated_kinds
     for i in range(n_bundled, config.sites):

@@ -101,7 +101,7 @@ def _site(spec: SiteSpec) -> Site:
     from indoorsim.scenario.generate import generate
     from indoorsim.scenario.load import load_site
 
-    if spec.source == "bundled":
+    if spec.source in ("bundled", "file"):
         return load_site(spec.id)
     assert spec.generator_seed is not None  # make_plan sets it for generated sites
     return load_site(generate(spec.kind, seed=spec.generator_seed))

@@ -66,3 +66,26 @@ def test_a_device_file_is_drawn_like_a_named_profile_and_a_broken_one_is_named(t
     broken.write_text("name: b\naccel: {rate_hz: 0}\n")
     with pytest.raises(DatasetConfigError, match=r"devices\[1\]: .*rate_hz must be > 0"):
         _plan(devices=[str(twin), str(broken)])
+
+
+def test_a_scenario_file_is_a_site_like_a_bundled_one_and_a_broken_one_is_named(tmp_path):
+    """An imported real floor (or any scenario file) joins the data set as a site."""
+    from indoorsim.dataset.shard import _site, simulate_walk
+    from indoorsim.scenario.load import resolve_scenario
+
+    plan_file = tmp_path / "imported.yaml"
+    plan_file.write_text(resolve_scenario("minimal_room").read_text())
+    config = DatasetConfig(
+        **(BASE | {"bundled": [str(plan_file)], "bundled_share": 0.5, "minutes": 0.2})
+    ).resolved()
+    plan = make_plan(config)
+    first = plan.sites[0]
+    assert (first.id, first.source, first.kind) == (str(plan_file), "file", "file")
+    assert plan.sites[1].source == "generated"
+    walk = next(w for w in plan.walks if w.site == 0)
+    rec = simulate_walk(_site(first), walk, config)
+    assert rec.duration > 10.0
+    broken = tmp_path / "broken.yaml"
+    broken.write_text("name: b\nwalls: [\n")
+    with pytest.raises(DatasetConfigError, match=r"bundled\[1\]: .*broken.yaml"):
+        DatasetConfig(**(BASE | {"bundled": [str(plan_file), str(broken)]})).resolved()
