@@ -39,7 +39,7 @@ from indoorsim.benchmark.evaluation import (
     evaluate_recording,
 )
 from indoorsim.benchmark.realism.calibrate import calibrate
-from indoorsim.benchmark.realism.motion import motion_statistics
+from indoorsim.benchmark.realism.motion import held_phone_motion, motion_statistics
 from indoorsim.benchmark.realism.reference import MODELLED_MODES
 from indoorsim.estimators.pdr.steps import PeakStepDetector
 from indoorsim.io.reallogs.ilc import read_ilc_trace
@@ -354,7 +354,8 @@ def walk_signals(rec: Recording) -> dict[str, float]:
     """What the phone felt between the first and the last waypoint: the step rate, ‖a‖'s
     std while walking (:mod:`~indoorsim.benchmark.realism.motion`), the median swing
     of one step of the low-passed ‖a‖ (peak to valley, the input of Weinberg's step
-    length), and the largest gyro axis's RMS."""
+    length), the largest gyro axis's RMS, and how the held phone surges, sways, bobs
+    and turns within each step (:func:`~indoorsim.benchmark.realism.motion.held_phone_motion`)."""
     stats = motion_statistics(rec)
     t = rec.accel.index.to_numpy(dtype=float)
     first, last = (float(v) for v in rec.waypoints.index[[0, -1]])
@@ -365,7 +366,7 @@ def walk_signals(rec: Recording) -> dict[str, float]:
         "acc_std": stats["acc_std"],
         "step_swing": float(np.median(swings)) if swings else float("nan"),
         "gyro_rms_1": stats["gyro_rms_1"],
-    }
+    } | held_phone_motion(rec)
 
 
 SIGNALS = {
@@ -373,6 +374,10 @@ SIGNALS = {
     "acc_std": "‖a‖ std while walking (m/s²)",
     "step_swing": "swing of low-passed ‖a‖ per step (m/s²)",
     "gyro_rms_1": "gyro RMS, largest axis (rad/s)",
+    "surge_step": "forward acceleration at the step rate (m/s²)",
+    "sway_stride": "sideways acceleration at the stride rate (m/s²)",
+    "bob_step": "vertical acceleration at the step rate (m/s²)",
+    "yaw_stride": "rate of turn at the stride rate (rad/s)",
 }
 """The signal statistics the twin table compares (:func:`walk_signals`)."""
 

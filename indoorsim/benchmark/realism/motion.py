@@ -60,10 +60,12 @@ from indoorsim.io.recording import Recording
 from indoorsim.util import quaternion
 
 __all__ = [
+    "HELD_KEYS",
     "MOTION_KEYS",
     "MOTION_RATE_HZ",
     "WalkingSignals",
     "gyro_heading_drift",
+    "held_phone_motion",
     "motion_profiles",
     "motion_statistics",
     "uniform_stream",
@@ -284,6 +286,64 @@ def motion_statistics(rec: Recording) -> dict[str, float]:
             drift = gyro_heading_drift(sig.gyro, sig.accel, sig.rotation, runs, rate)
             strides = walking.sum() / rate * step_hz / 2
             out["gyro_drift"] = math.degrees(drift) / strides
+    return out
+
+
+HELD_KEYS = ("surge_step", "sway_stride", "bob_step", "yaw_stride")
+"""Keys of :func:`held_phone_motion`."""
+
+_HELD_WINDOW_S = 4.0
+_STEP_BAND_HZ = (1.3, 2.8)
+
+
+def held_phone_motion(rec: Recording) -> dict[str, float]:
+    """How a phone held with its top forward moves within each step, while walking.
+
+    The accelerometer and gyroscope are levelled by the phone's own fused
+    attitude; "forward" is the phone's y axis levelled, "sideways" the horizontal
+    across it. In 4 s windows of walking (half overlapping) the step rate is the
+    vertical acceleration's peak at 1.3–2.8 Hz, and each key is the median over
+    windows of an amplitude (m/s², or rad/s for the yaw rate), read by projection
+    on that frequency:
+
+    ``surge_step``   forward acceleration at the step rate
+    ``sway_stride``  sideways acceleration at the stride rate (half the step rate)
+    ``bob_step``     vertical acceleration at the step rate
+    ``yaw_stride``   rate of turn about the vertical at the stride rate
+
+    NaN without a rotation vector or gyroscope, or without a whole window.
+    """
+    out = dict.fromkeys(HELD_KEYS, math.nan)
+    rate = MOTION_RATE_HZ
+    sig = walking_signals(rec, rate)
+    if sig.rotation is None or sig.gyro is None:
+        return out
+    q = sig.rotation / np.linalg.norm(sig.rotation, axis=1, keepdims=True)
+    acc, gyro = quaternion.rotate(q, sig.accel), quaternion.rotate(q, sig.gyro)
+    ahead = quaternion.rotate(q, np.array([0.0, 1.0, 0.0]))[:, :2]
+    ahead /= np.linalg.norm(ahead, axis=1, keepdims=True)
+    levelled = np.column_stack(
+        [
+            np.einsum("ij,ij->i", acc[:, :2], ahead),
+            acc[:, 0] * ahead[:, 1] - acc[:, 1] * ahead[:, 0],
+            acc[:, 2],
+            gyro[:, 2],
+        ]
+    )
+    n = round(_HELD_WINDOW_S * rate)
+    t = np.arange(n) / rate
+    freqs = np.fft.rfftfreq(8 * n, 1.0 / rate)
+    band = (freqs > _STEP_BAND_HZ[0]) & (freqs < _STEP_BAND_HZ[1])
+    rows = []
+    for run in sig.runs:
+        for start in range(run.start, run.stop - n + 1, n // 2):
+            w = levelled[start : start + n] - levelled[start : start + n].mean(axis=0)
+            step_hz = freqs[band][np.argmax(np.abs(np.fft.rfft(w[:, 2], 8 * n))[band])]
+            at_step = 2.0 * np.abs(np.exp(-2j * np.pi * step_hz * t) @ w) / n
+            at_stride = 2.0 * np.abs(np.exp(-1j * np.pi * step_hz * t) @ w) / n
+            rows.append([at_step[0], at_stride[1], at_step[2], at_stride[3]])
+    if rows:
+        out.update(zip(HELD_KEYS, np.median(rows, axis=0).tolist(), strict=True))
     return out
 
 

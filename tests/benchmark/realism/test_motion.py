@@ -9,7 +9,9 @@ import pandas as pd
 import pytest
 
 from indoorsim.benchmark.realism.motion import (
+    HELD_KEYS,
     MOTION_KEYS,
+    held_phone_motion,
     motion_profiles,
     motion_statistics,
     uniform_stream,
@@ -59,6 +61,23 @@ def test_a_sinusoidal_walk_gives_the_closed_form_statistics():
     assert s["share_step"] > 0.99 and s["share_2nd"] < 0.01 and s["share_stride"] < 0.01
     assert s["gyro_rms_1"] == pytest.approx(0.0, abs=1e-9)
     assert s["heading_jitter"] == pytest.approx(0.0, abs=1e-3)
+
+
+def test_a_held_phones_surge_sway_bob_and_turn_are_read_in_its_own_walking_frame():
+    """A flat phone turning steadily about the vertical, whose top-forward, sideways and
+    vertical accelerations and yaw rate are sines of known amplitude: they come back
+    whatever the compass direction of its top."""
+    rec = _sine_walk(1.75)
+    t = rec.accel.index.to_numpy()
+    step, stride = 2 * np.pi * 1.75 * t, np.pi * 1.75 * t
+    rec.accel["y"] = 0.5 * np.sin(step + 0.7)
+    rec.accel["x"] = 0.3 * np.sin(stride)
+    rec.gyro["z"] = 0.1 + 0.2 * np.cos(stride)
+    held = held_phone_motion(rec)
+    assert set(held) == set(HELD_KEYS)
+    expected = {"surge_step": 0.5, "sway_stride": 0.3, "bob_step": 2.0, "yaw_stride": 0.2}
+    for key, value in expected.items():
+        assert held[key] == pytest.approx(value, rel=0.05), key
 
 
 def test_the_stride_profile_of_a_lopsided_walk_is_its_waveform():
