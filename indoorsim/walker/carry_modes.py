@@ -5,9 +5,10 @@ schedule of them (DESIGN §5):
 
 * ``handheld`` — in front of the chest, screen up and pitched toward the eyes
   (``pitch_deg``: 0 is flat, as in Han2023's experiments; ~30° is texting),
-  y-axis forward; the forearm swings at the elbow and the hand nods and rocks
-  the phone at the wrist, each joint a damped spring driven by the trunk's
-  motion, plus a faint 8–12 Hz tremor.
+  y-axis forward; the arm holds the hand in place against the trunk's surge and
+  sway (it bobs with it), the forearm swings at the elbow and the hand nods and
+  rocks the phone at the wrist, each joint a damped spring driven by the
+  trunk's motion; the hand turns slowly in yaw, with a faint 8–12 Hz tremor.
 * ``calling`` — at the ear, screen toward the head, long axis tilted 30–60°
   from vertical, x-axis along ±forward; the head rides on the neck (a damped
   spring) and nods and rocks on it; it shades the light sensor.
@@ -162,9 +163,12 @@ def _side(which: str) -> float:
 class Handheld(CarryMode):
     """Held in front of the chest, screen up, looked at (REALISM §6.1 texting row).
 
-    Two joints carry the phone, each held by muscle like a damped spring
-    (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, which rides on the
-    trunk (its bounce, heel strikes and yaw), and the hand, with the phone,
+    The arm holds the hand where the eyes read it: it follows the walk, and
+    vertically the trunk's bounce and heel strikes, but fore-aft and sideways it
+    passes the trunk's surge and sway within each step through a soft damped spring
+    (:func:`~.limbs.transmitted`), and it follows only part of the trunk's yaw.
+    Two joints then carry the phone, each held by muscle like a damped spring
+    (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, and the hand, with the phone,
     pivots at the wrist. The elbow's acceleration across the forearm swings
     the forearm (stiff, 4–6 Hz: the phone's acceleration is the trunk's passed
     through it, harmonics and all); the hand's acceleration acts on the phone's
@@ -223,9 +227,31 @@ class Handheld(CarryMode):
     """Range of the wrist's damping ratio, drawn per use [E]."""
     grip_roll_deg: float = 12.0
     """Largest turn of the phone about the forearm's axis in the grip, drawn per use [E]."""
-    trunk_coupling: float = 0.8
-    """Fraction of the trunk's yaw oscillation the phone follows: the shoulders
-    turn with the thorax, a little less than the pelvis [E]."""
+    trunk_coupling: tuple[float, float] = (0.2, 0.4)
+    """Range of the fraction of the trunk's yaw oscillation the phone follows, drawn
+    per use. A phone being read is kept before the eyes, and the head is held
+    steady in yaw while the trunk turns under it: the 16 ILC traces' flat-held
+    phones turn at 0.17 rad/s (median) at the stride rate, a third of what
+    following 0.8 of the trunk gave (0.53) [E]."""
+    arm_forward_hz: tuple[float, float] = (0.6, 0.9)
+    """Range of the natural frequency at which the arm holds the hand in place, fore
+    and aft, against the trunk's motion within each step, drawn per use. The hand
+    follows the walk, but the upper arm swings on the shoulder under the step
+    rate's surge: the ILC traces' hands surge 0.48 m/s² at the step rate (median),
+    about a third of the pelvis's, and lag it [E]."""
+    arm_lateral_hz: tuple[float, float] = (0.3, 0.5)
+    """The same sideways: the hand stays put while the trunk sways under it at the
+    stride rate (ILC traces: 0.2 m/s² at the stride rate, median) [E]."""
+    arm_damping: tuple[float, float] = (0.2, 0.4)
+    """Range of the damping ratio of that hold, drawn per use [E]."""
+    yaw_wander_deg: float = 2.0
+    """RMS of the hand's slow turn about the vertical (over about a second) away
+    from its drawn misalignment [E]: walking straight, the ILC traces' phones turn
+    2.45° (median) about their 2 s running median heading, integrated from the
+    gyro alone, where a hand that only followed the trunk turned 1.7°."""
+    yaw_wander_s: float = 0.25
+    """Time scale (the smoothing σ) of that turn: it wanders over a second or two,
+    slower than the stride [E]."""
 
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, rate = body.height_m, body.rate_hz
@@ -245,11 +271,32 @@ class Handheld(CarryMode):
         level = np.array([math.cos(inward), -side * math.sin(inward), 0.0])
         along = math.cos(rise) * level + [0.0, 0.0, math.sin(rise)]  # elbow → hand
         across = -math.sin(rise) * level + [0.0, 0.0, math.cos(rise)]  # the forearm's swing
-        yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
+        coupling = rng.uniform(*self.trunk_coupling)
+        yaw = body.heading + coupling * (body.yaw - body.heading)
         frame = limbs.body_frame(yaw)
-        # The elbow hangs from the shoulder: it turns and leans with the trunk.
+        # Where the trunk would carry the hand and the elbow (turning and leaning with
+        # it, bouncing and swaying within each step), and where the walk's path would.
+        # The arm passes the hand's difference on horizontally as a damped spring,
+        # fore-aft and sideways; vertically the hand rides with the elbow, which hangs
+        # from the shoulder at the holding side, so it rises and falls with the
+        # trunk's sideways lean too.
         trunk = limbs.compose(frame, limbs.about("x", body.roll))
-        elbow = body.pos + limbs.apply(trunk, rest - self.forearm_m * along)
+        path = limbs.body_frame(body.heading)
+        on_path = body.pos - body.gait_offset + limbs.apply(path, rest)
+        shake = body.pos + limbs.apply(trunk, rest) - on_path
+        elbow_rest = rest - self.forearm_m * along
+        shake[:, 2] = (
+            body.gait_offset[:, 2]
+            + (limbs.apply(trunk, elbow_rest) - limbs.apply(path, elbow_rest))[:, 2]
+        )
+        fwd, left = limbs.to_body(shake[:, :2], body.heading).T
+        arm_damping = rng.uniform(*self.arm_damping)
+        fwd = limbs.transmitted(fwd, rng.uniform(*self.arm_forward_hz), arm_damping, rate)
+        left = limbs.transmitted(left, rng.uniform(*self.arm_lateral_hz), arm_damping, rate)
+        c, s = np.cos(body.heading), np.sin(body.heading)
+        held = on_path + np.column_stack([fwd * c - left * s, fwd * s + left * c, shake[:, 2]])
+        # The elbow, behind the held hand along the forearm.
+        elbow = held - limbs.apply(frame, self.forearm_m * along)
         acc = limbs.acceleration(elbow, body.t)
         horiz = limbs.to_body(acc, yaw)
         up_across = horiz[:, 0] * across[0] + horiz[:, 1] * across[1] + acc[:, 2] * across[2]
@@ -295,8 +342,11 @@ class Handheld(CarryMode):
         n = len(body.t)
         pos += limbs.tremor(n, rate, 1e-3 * self.tremor_mm, rng)
         tremor = limbs.tremor(n, rate, math.radians(self.tremor_deg), rng)
+        wander = math.radians(self.yaw_wander_deg) * limbs.slow_noise(
+            n, rate, rng, self.yaw_wander_s
+        )
         rot = limbs.compose(
-            limbs.body_frame(yaw + misalign + turn),
+            limbs.body_frame(yaw + misalign + wander + turn),
             limbs.about("z", -np.pi / 2),
             limbs.about("x", math.radians(self.pitch_deg) + swing + nod),
             limbs.about("y", grip + rock),

@@ -256,6 +256,9 @@ class BodyTrajectory:
     Attributes:
         t: (K,) time in seconds from the start, at ``rate_hz``.
         pos: (K, 3) body centre (pelvis) in the building frame, metres.
+        gait_offset: (K, 3) the part of ``pos`` that moves within each step
+            (bounce, forward surge, sway, heel-strike jolts), in the building
+            frame: ``pos - gait_offset`` follows the path smoothly.
         heading: (K,) walking direction, radians from +x, unwrapped.
         yaw: (K,) trunk yaw: heading plus the stride-frequency trunk rotation.
         roll: (K,) the trunk's sideways lean toward the stance leg, rad (+ left).
@@ -279,6 +282,7 @@ class BodyTrajectory:
 
     t: NDArray[np.float64]
     pos: NDArray[np.float64]
+    gait_offset: NDArray[np.float64]
     heading: NDArray[np.float64]
     yaw: NDArray[np.float64]
     roll: NDArray[np.float64]
@@ -426,12 +430,14 @@ def walk(
     xy[0] = macro[:, 0] + fwd * ch - lat * sh
     xy[1] = macro[:, 1] + fwd * sh + lat * ch
     pos = np.column_stack([xy[0], xy[1], leg + within.up])
+    gait_offset = np.column_stack([fwd * ch - lat * sh, fwd * sh + lat * ch, within.up])
     vel = np.gradient(xy, t, axis=1)
     if end < duration:
         steps = steps[steps["t"] <= t[-1]].reset_index(drop=True)
     return BodyTrajectory(
         t=t,
         pos=pos,
+        gait_offset=gait_offset,
         heading=heading,
         yaw=heading + within.trunk_yaw,
         roll=within.trunk_roll,

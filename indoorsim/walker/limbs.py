@@ -145,6 +145,25 @@ def oscillator(
     return lfilter(b, a, drive, axis=0)
 
 
+def transmitted(
+    motion: NDArray[np.float64], natural_hz: float, damping: float, rate_hz: float
+) -> NDArray[np.float64]:
+    """What a mass on a damped spring does when its base moves by ``motion``, from rest.
+
+    x of ẍ + 2ζω·(ẋ − u̇) + ω²·(x − u) = 0 for the base motion u: the
+    transmissibility (1 + 2jζr)/(1 − r² + 2jζr) at r = f/f_n. Slow motion is
+    followed exactly (a steady walk's drift needs no spring force), motion
+    near the natural frequency is amplified, and well above it the mass's
+    inertia holds it still while the base moves under it. Bilinear transform,
+    as :func:`oscillator`.
+    """
+    omega = 2.0 * np.pi * natural_hz
+    b, a = bilinear(
+        [2.0 * damping * omega, omega**2], [1.0, 2.0 * damping * omega, omega**2], fs=rate_hz
+    )
+    return lfilter(b, a, motion, axis=0)
+
+
 def to_body(vec: NDArray[np.float64], heading: NDArray[np.float64]) -> NDArray[np.float64]:
     """Horizontal vectors in the walking frame: (forward, left)."""
     c, s = np.cos(heading), np.sin(heading)
@@ -161,9 +180,12 @@ def tremor(n: int, rate_hz: float, rms: float, rng: np.random.Generator) -> NDAr
     return x
 
 
-def slow_noise(n: int, rate_hz: float, rng: np.random.Generator) -> NDArray[np.float64]:
-    """Unit-RMS noise varying over about a second."""
-    x = gaussian_smooth(rng.standard_normal(n), 0.5 * rate_hz)
+def slow_noise(
+    n: int, rate_hz: float, rng: np.random.Generator, sigma_s: float = 0.5
+) -> NDArray[np.float64]:
+    """Unit-RMS noise varying over about four ``sigma_s`` (white noise smoothed by a
+    Gaussian of σ = ``sigma_s`` seconds: half its power lies below 0.19/``sigma_s`` Hz)."""
+    x = gaussian_smooth(rng.standard_normal(n), sigma_s * rate_hz)
     sd = x.std()
     return x / sd if sd > 0 else x
 

@@ -174,7 +174,13 @@ def test_texting_pitches_the_screen_toward_the_eyes(straight_body, straight_phon
 def test_flat_phone_facing_north_has_the_identity_quaternion(l_plan):
     route = plan_route(l_plan, RouteSpec(waypoints=[(11.0, 2.5), (11.0, 9.0)]))
     body = walk(l_plan, route, WalkerParams(), np.random.default_rng(0))
-    params = {"pitch_deg": 0.0, "misalignment_deg": 0.0, "tremor_deg": 0.0, "grip_roll_deg": 0.0}
+    params = {
+        "pitch_deg": 0.0,
+        "misalignment_deg": 0.0,
+        "tremor_deg": 0.0,
+        "grip_roll_deg": 0.0,
+        "yaw_wander_deg": 0.0,
+    }
     phone = carry(body, [(0.0, "handheld", params)], np.random.default_rng(0))
     np.testing.assert_allclose(phone.quat[0], [1.0, 0.0, 0.0, 0.0], atol=1e-9)
 
@@ -363,3 +369,72 @@ def test_compiled_sign_continuity_and_scalar_moves_match_numpy():
     assert last.tobytes() == np.roll(q, -1, axis=1).tobytes()
     assert limbs.swap_scalar(last, False).tobytes() == q.tobytes()
     assert limbs.swap_scalar(q[3], True).tolist() == np.roll(q[3], -1).tolist()
+
+
+# ---------------------------------------------------------------------- the held hand
+
+
+def _amplitude(x: np.ndarray, t: np.ndarray, hz: float) -> float:
+    """Amplitude of x's component at ``hz`` (least squares on a sine and a cosine)."""
+    basis = np.column_stack([np.sin(2 * np.pi * hz * t), np.cos(2 * np.pi * hz * t)])
+    coef = np.linalg.lstsq(basis, x - x.mean(), rcond=None)[0]
+    return float(np.hypot(*coef))
+
+
+def test_a_damped_spring_passes_its_base_motion_as_the_closed_form_says():
+    rate, fn, zeta = 200.0, 0.8, 0.3
+    t = np.arange(0.0, 60.0, 1.0 / rate)
+    for f in (0.3, 0.8, 2.0, 5.0):
+        out = limbs.transmitted(np.sin(2 * np.pi * f * t), fn, zeta, rate)
+        r = f / fn
+        expected = np.hypot(1.0, 2 * zeta * r) / np.hypot(1.0 - r**2, 2 * zeta * r)
+        late = t > 30.0  # the start's transient has died away
+        assert _amplitude(out[late], t[late], f) == pytest.approx(expected, rel=0.01)
+    # A steady drift is followed without lag, once the start is forgotten.
+    ramp = 1.3 * t
+    np.testing.assert_allclose(
+        limbs.transmitted(ramp, fn, zeta, rate)[t > 30.0], ramp[t > 30.0], atol=1e-6
+    )
+
+
+def test_the_gait_offset_is_all_the_within_step_motion(straight_body):
+    steady = straight_body.pos - straight_body.gait_offset
+    # What is left follows the path: constant height, no step-rate wobble across it.
+    np.testing.assert_allclose(steady[:, 2], straight_body.pelvis_height_m, atol=1e-12)
+    assert np.ptp(steady[_steady(straight_body), 1]) < 1e-3  # the corridor runs along x
+    assert np.ptp(straight_body.gait_offset[_steady(straight_body), 2]) > 0.02  # the bounce
+
+
+def test_the_held_hand_rides_out_the_trunks_surge_and_sway(straight_body):
+    """The reading hand keeps its place in space fore-aft and sideways (ILC traces:
+    0.48 m/s² at the step rate, 0.2 at the stride rate, a third of the pelvis's or
+    less), and bobs with the trunk vertically."""
+    flat = {"pitch_deg": 0.0}
+    body = straight_body
+    keep = _steady(body)
+    t = body.t[keep]
+    step_hz = 1.0 / np.median(np.diff(body.steps["t"].to_numpy()))
+    pelvis = limbs.acceleration(body.pos, body.t)[keep]
+    for seed in range(3):
+        phone = carry(body, [(0.0, "handheld", flat)], np.random.default_rng(seed))
+        hand = limbs.acceleration(phone.pos, phone.t)[keep]
+        # The corridor runs along +x: forward is x, sideways y.
+        assert _amplitude(hand[:, 0], t, step_hz) < 0.5 * _amplitude(pelvis[:, 0], t, step_hz)
+        assert _amplitude(hand[:, 1], t, step_hz / 2) < 0.5 * _amplitude(
+            pelvis[:, 1], t, step_hz / 2
+        )
+        assert _amplitude(hand[:, 2], t, step_hz) > 0.9 * _amplitude(pelvis[:, 2], t, step_hz)
+
+
+def test_the_held_phone_wanders_slowly_in_yaw(straight_body):
+    """Walking straight, the held phone's heading strays about its 2 s running median by
+    degrees (ILC traces: 2.45° median), not by a fraction of one."""
+    from scipy.ndimage import median_filter
+
+    body = straight_body
+    keep = _steady(body)
+    phone = carry(body, [(0.0, "handheld", {"pitch_deg": 0.0})], np.random.default_rng(5))
+    y = _rot(phone).apply([0.0, 1.0, 0.0])
+    heading = np.degrees(np.unwrap(np.arctan2(y[:, 1], y[:, 0])))
+    residual = heading - median_filter(heading, size=int(2 * body.rate_hz) | 1, mode="nearest")
+    assert 1.0 < residual[keep].std() < 5.0
