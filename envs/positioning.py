@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v2`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v3`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -211,11 +211,15 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       and gaze, the pocket's hip rotation and rocking, the handset's and the APs'
       antenna patterns, car parks with half their aisle lights off): a seed gives
       other observations and errors. Spaces, rewards and arguments are unchanged.
+    - v3: the held phone's walks changed (the arm holds the hand in place against the
+      trunk's surge and sway, it follows a third of the trunk's yaw and wanders
+      slowly in yaw, it bobs with the elbow at the holding side): a seed gives
+      other observations and errors. Spaces, rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v2")
+        >>> env = gym.make("indoorsim/MinimalRoom-v3")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)

@@ -10,30 +10,38 @@ comes from the phone's fused attitude (magnetic disturbances included), speed
 and walking direction relative to the phone from the network: no step
 detection, no step-length model, no calibration on the site.
 
-The network is trained offline on generated buildings (``indoorsim train``),
+The network is trained offline on simulated walks only (``indoorsim train``),
 never in :meth:`LearnedIO.fit`, which only loads a checkpoint.
 
 The packaged checkpoint
 -----------------------
 
-``indoorsim/estimators/nn/checkpoints/learned_io/`` (``weights.pt`` and
-``model.json``, 330 kB) was made by this command pair, run from the
-repository's root (100 s for both on 2 cores: about 35 s for the data, 66 s for
-training; the commands, per-epoch losses and versions are in its ``model.json``)::
+``estimators/nn/checkpoints/learned_io/`` (``weights.pt`` and ``model.json``,
+330 kB) was made by these commands, run from the repository's root with the
+real-data folder at ``../shared/realdata`` (about 2.5 min on 2 cores: 5 s for
+the plans, 81 s for the data, 60 s for training; the data set and training
+commands, per-epoch losses and versions are in its ``model.json``)::
 
-    indoorsim dataset --config estimators/nn/checkpoints/learned_io-dataset.yaml \\
+    for s in 1 2 3; do indoorsim import-plan \
+        ../shared/realdata/ms-indoor-location-2020/site1/F1/geojson_map.json \
+        --seed $s --out /tmp/io_plans/ms_f1_s$s.yaml --overwrite; done
+    indoorsim dataset --config estimators/nn/checkpoints/learned_io-dataset.yaml \
         --sites 30 --walks-per-site 3 --minutes 5 --seed 7 --workers 2 --out /tmp/io_data
-    indoorsim train --data /tmp/io_data --out estimators/nn/checkpoints/learned_io \\
+    indoorsim train --data /tmp/io_data --out estimators/nn/checkpoints/learned_io \
         --epochs 15 --batch-size 128 --lr 0.003 --seed 0 --workers 0 --threads 1 --frame world
 
-7.5 hours of walking in 30 generated buildings (no bundled scenario, so the
-leaderboard's buildings are unseen), six phone models, four carrying modes
-with changes, the IMU at 50 Hz in 2 s windows every 1 s: 26 814 windows,
-24 sites to train on, 3 to validate, 3 to test. Final losses (m²/s², mean
-of both velocity components): train 0.0271, val 0.0430, test 0.0197 — an
-RMS velocity error of about 0.14 m/s per axis on the test buildings. Training is deterministic on
-CPU: the command gives the same ``weights.pt`` bytes for the same
-``--threads`` and ``--workers`` (add ``--overwrite`` to retrain in place).
+7.5 hours of simulated walking in 30 buildings: 27 generated ones and the
+imported floor plan of the real MS Indoor Location traces (its walls and
+shops; lights, APs and steel placed by three seeds), all three in the training
+split — so the real traces' building is seen in simulation, their sensor data
+never. No bundled scenario is used, so the leaderboard's buildings are unseen.
+Six phone models, four carrying modes with changes, the IMU at 50 Hz in 2 s
+windows every 1 s: 26 814 windows, 24 sites to train on, 3 to validate, 3 to
+test. Final losses (m²/s², mean of both velocity components): train 0.0267,
+val 0.0591, test 0.0203 — an RMS velocity error of about 0.14 m/s per axis on
+the test buildings. Training is deterministic on CPU: the commands give the
+same ``weights.pt`` bytes for the same ``--threads`` and ``--workers`` (add
+``--overwrite`` to retrain in place).
 
 Per window
 ----------
