@@ -39,6 +39,7 @@ from indoorsim.benchmark.evaluation import (
     evaluate_recording,
 )
 from indoorsim.benchmark.realism.calibrate import calibrate
+from indoorsim.benchmark.realism.magnetic import magnetic_statistics
 from indoorsim.benchmark.realism.motion import held_phone_motion, motion_statistics
 from indoorsim.benchmark.realism.reference import MODELLED_MODES
 from indoorsim.estimators.pdr.steps import PeakStepDetector
@@ -354,19 +355,26 @@ def walk_signals(rec: Recording) -> dict[str, float]:
     """What the phone felt between the first and the last waypoint: the step rate, ‖a‖'s
     std while walking (:mod:`~indoorsim.benchmark.realism.motion`), the median swing
     of one step of the low-passed ‖a‖ (peak to valley, the input of Weinberg's step
-    length), the largest gyro axis's RMS, and how the held phone surges, sways, bobs
-    and turns within each step (:func:`~indoorsim.benchmark.realism.motion.held_phone_motion`)."""
+    length), the largest gyro axis's RMS, how the held phone surges, sways, bobs
+    and turns within each step (:func:`~indoorsim.benchmark.realism.motion.held_phone_motion`),
+    and the spread of ‖m‖ along the path, in all and at wavelengths over 10 m
+    (:func:`~indoorsim.benchmark.realism.magnetic.magnetic_statistics`)."""
+    field = magnetic_statistics(rec)
     stats = motion_statistics(rec)
     t = rec.accel.index.to_numpy(dtype=float)
     first, last = (float(v) for v in rec.waypoints.index[[0, -1]])
     steps = PeakStepDetector().update(t, rec.accel[["x", "y", "z"]].to_numpy(dtype=float))
     swings = [s.a_max - s.a_min for s in steps if first <= s.t <= last]
-    return {
-        "step_hz": stats["step_hz"],
-        "acc_std": stats["acc_std"],
-        "step_swing": float(np.median(swings)) if swings else float("nan"),
-        "gyro_rms_1": stats["gyro_rms_1"],
-    } | held_phone_motion(rec)
+    return (
+        {
+            "step_hz": stats["step_hz"],
+            "acc_std": stats["acc_std"],
+            "step_swing": float(np.median(swings)) if swings else float("nan"),
+            "gyro_rms_1": stats["gyro_rms_1"],
+        }
+        | held_phone_motion(rec)
+        | {"mag_std": field["mag_std"], "mag_std_long": field["std_long"]}
+    )
 
 
 SIGNALS = {
@@ -378,6 +386,8 @@ SIGNALS = {
     "sway_stride": "sideways acceleration at the stride rate (m/s²)",
     "bob_step": "vertical acceleration at the step rate (m/s²)",
     "yaw_stride": "rate of turn at the stride rate (rad/s)",
+    "mag_std": "‖m‖ std along the path (µT)",
+    "mag_std_long": "‖m‖ std at wavelengths over 10 m (µT)",
 }
 """The signal statistics the twin table compares (:func:`walk_signals`)."""
 

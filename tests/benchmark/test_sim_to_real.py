@@ -7,12 +7,14 @@ import pandas as pd
 import pytest
 
 from indoorsim.benchmark.sim_to_real import (
+    SIGNALS,
     StepWalk,
     as_real_log,
     count_steps,
     passing_times,
     tune_step_detector,
     twin_summary,
+    walk_signals,
     write_sim_to_real,
 )
 from indoorsim.scenario.load import load_site
@@ -89,6 +91,19 @@ def test_a_twin_is_scored_as_a_real_log_at_its_waypoints():
     # The phone passes each waypoint within the body's clearance and arm's reach.
     assert np.linalg.norm(marks - np.asarray(route.waypoints), axis=1).max() < 1.0
     assert np.all(np.diff(twin.waypoints.index.to_numpy()) > 0)
+
+
+def test_a_twin_shows_every_signal_the_table_compares():
+    site = load_site("han2023_corridor")
+    route = next(iter(site.scenario.routes))
+    rec = simulate(site, route=route, mode=[(0.0, "handheld", {"pitch_deg": 0.0})], seed=0)
+    twin = as_real_log(rec, np.asarray(site.scenario.routes[route].waypoints, dtype=float))
+    signals = walk_signals(twin)
+    assert set(signals) == set(SIGNALS)
+    assert all(np.isfinite(v) for v in signals.values()), signals
+    # A held phone bobs more than it surges, and the field varies along a real corridor.
+    assert signals["bob_step"] > 3 * signals["surge_step"]
+    assert signals["mag_std"] > signals["mag_std_long"] > 0
 
 
 def test_the_summary_gives_each_estimators_real_to_sim_ratio_and_the_rank_agreement():
