@@ -32,6 +32,10 @@ The keys of the returned dict (NaN where a stream is missing or too short):
 ``heading_jitter``  std of the fused heading about its 2 s running median (degrees)
 ``gyro_drift``      drift of the gyro heading ∫ω·ĝ dt against the fused attitude's
                     heading, degrees per stride (signed; :func:`gyro_heading_drift`)
+``surge_step``      a phone held top-forward: forward acceleration at the step rate,
+``sway_stride``     sideways at the stride rate, vertical at the step rate (m/s²)
+``bob_step``        and rate of turn at the stride rate (rad/s), levelled by its own
+``yaw_stride``      fused attitude (:func:`held_phone_motion`)
 ==================  ==========================================================
 """
 
@@ -91,6 +95,10 @@ MOTION_KEYS = (
     "gyro_rms_3",
     "heading_jitter",
     "gyro_drift",
+    "surge_step",
+    "sway_stride",
+    "bob_step",
+    "yaw_stride",
 )
 
 _SEGMENT_S = 8.0  # Welch segment: 0.125 Hz bins, several segments per real walk
@@ -244,6 +252,7 @@ def motion_statistics(rec: Recording) -> dict[str, float]:
     sig = walking_signals(rec, rate)
     norm, walking, runs = sig.norm, sig.walking, sig.runs
     out["walking_s"] = float(walking.sum() / rate)
+    out.update(held_phone_motion(rec, sig))
     if sig.spectrum is None:
         return out
     f, p = sig.spectrum
@@ -289,14 +298,16 @@ def motion_statistics(rec: Recording) -> dict[str, float]:
     return out
 
 
-HELD_KEYS = ("surge_step", "sway_stride", "bob_step", "yaw_stride")
-"""Keys of :func:`held_phone_motion`."""
+HELD_KEYS = MOTION_KEYS[-4:]
+"""Keys of :func:`held_phone_motion` (the last of :data:`MOTION_KEYS`)."""
+HELD_MODE = "handheld"
+"""The carrying mode whose phone is held top-forward: the only one they are judged in."""
 
 _HELD_WINDOW_S = 4.0
 _STEP_BAND_HZ = (1.3, 2.8)
 
 
-def held_phone_motion(rec: Recording) -> dict[str, float]:
+def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict[str, float]:
     """How a phone held with its top forward moves within each step, while walking.
 
     The accelerometer and gyroscope are levelled by the phone's own fused
@@ -311,11 +322,12 @@ def held_phone_motion(rec: Recording) -> dict[str, float]:
     ``bob_step``     vertical acceleration at the step rate
     ``yaw_stride``   rate of turn about the vertical at the stride rate
 
-    NaN without a rotation vector or gyroscope, or without a whole window.
+    NaN without a rotation vector or gyroscope, or without a whole window. ``sig``:
+    ``rec``'s :func:`walking_signals`, when already at hand.
     """
     out = dict.fromkeys(HELD_KEYS, math.nan)
     rate = MOTION_RATE_HZ
-    sig = walking_signals(rec, rate)
+    sig = walking_signals(rec, rate) if sig is None else sig
     if sig.rotation is None or sig.gyro is None:
         return out
     q = sig.rotation / np.linalg.norm(sig.rotation, axis=1, keepdims=True)

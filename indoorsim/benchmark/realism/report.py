@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from indoorsim.benchmark.realism.light import LIGHT_KEYS, light_statistics
 from indoorsim.benchmark.realism.magnetic import MAGNETIC_KEYS, magnetic_statistics
-from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_statistics
+from indoorsim.benchmark.realism.motion import HELD_KEYS, HELD_MODE, MOTION_KEYS, motion_statistics
 from indoorsim.benchmark.realism.radio import RADIO_KEYS, radio_statistics, static_statistics
 from indoorsim.benchmark.realism.reference import (
     LIGHT_MODE,
@@ -89,6 +89,10 @@ COMPARED: dict[str, str] = {
     "gyro_rms_3": "gyro RMS, smallest axis (rad/s)",
     "heading_jitter": "fused heading jitter (°)",
     "gyro_drift": "gyro heading drift ∫ω·ĝ, its size (°/stride)",
+    "surge_step": "held top-forward: forward acceleration at the step rate (m/s²)",
+    "sway_stride": "held top-forward: sideways acceleration at the stride rate (m/s²)",
+    "bob_step": "held top-forward: vertical acceleration at the step rate (m/s²)",
+    "yaw_stride": "held top-forward: rate of turn at the stride rate (rad/s)",
 }
 """The statistics judged, with their labels (``walking_s`` is shown, not judged)."""
 
@@ -369,6 +373,8 @@ def compare(
     rows = []
     for mode in dict.fromkeys(sim["mode"]):
         for key in compared:
+            if key in HELD_KEYS and mode != HELD_MODE:
+                continue  # a phone at the ear, in a swinging hand or a pocket has no "ahead"
             low, high, source = real_range(real, mode, key)
             row = {"mode": mode, "statistic": key, "real_low": low, "real_high": high}
             row["real_source"] = source
