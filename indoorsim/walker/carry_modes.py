@@ -274,8 +274,9 @@ class Handheld(CarryMode):
         coupling = rng.uniform(*self.trunk_coupling)
         yaw = body.heading + coupling * (body.yaw - body.heading)
         frame = limbs.body_frame(yaw)
-        # Where the trunk would carry the hand and the elbow (turning and leaning with
-        # it, bouncing and swaying within each step), and where the walk's path would.
+        # Where the trunk would carry the hand and the elbow (leaning with it, bouncing
+        # and swaying within each step, turning with the part of its yaw the hand
+        # follows), and where the walk's path would.
         # The arm passes the hand's difference on horizontally as a damped spring,
         # fore-aft and sideways; vertically the hand rides with the elbow, which hangs
         # from the shoulder at the holding side, so it rises and falls with the

@@ -184,7 +184,8 @@ def slow_noise(
     n: int, rate_hz: float, rng: np.random.Generator, sigma_s: float = 0.5
 ) -> NDArray[np.float64]:
     """Unit-RMS noise varying over about four ``sigma_s`` (white noise smoothed by a
-    Gaussian of σ = ``sigma_s`` seconds: half its power lies below 0.19/``sigma_s`` Hz)."""
+    Gaussian of σ = ``sigma_s`` seconds: its amplitude response halves at
+    0.19/``sigma_s`` Hz, its power response at 0.076/``sigma_s`` Hz)."""
     x = gaussian_smooth(rng.standard_normal(n), sigma_s * rate_hz)
     sd = x.std()
     return x / sd if sd > 0 else x
