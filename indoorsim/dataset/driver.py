@@ -5,7 +5,9 @@
 1. resolve the configuration and its plan; store the configuration as
    ``config.json`` in the output folder before any work (or, when the folder
    already holds one, refuse unless it is equal: a resumed run must be the
-   same data set);
+   same data set), and the SHA-256 of every scenario or device file it names
+   as ``inputs.json`` (a resumed run refuses a file whose bytes changed: it
+   would mix two buildings or two phones under one name);
 2. delete the temporary files a killed run left behind, and skip every shard
    whose sidecar exists and whose file still matches the sidecar's checksum;
 3. run the remaining shards as Dask tasks — on a new
@@ -77,13 +79,14 @@ from distributed import Client, LocalCluster, as_completed
 from distributed.diagnostics.plugin import WorkerPlugin
 
 from indoorsim.dataset.card import covered_hours, write_card
-from indoorsim.dataset.config import DatasetConfig, config_difference
+from indoorsim.dataset.config import DatasetConfig, config_difference, is_yaml_file
 from indoorsim.dataset.plan import make_plan
 from indoorsim.dataset.shard import (
     PARTIAL,
     RECORDINGS_DIR,
     SHARDS_DIR,
     run_shard,
+    sha256_file,
     shard_is_complete,
 )
 
@@ -97,6 +100,7 @@ __all__ = [
 ]
 
 CONFIG_FILE = "config.json"
+INPUTS_FILE = "inputs.json"
 RUN_LOG = "run_log.json"
 _SINGLE_THREAD_ENV = {
     "OMP_NUM_THREADS": "1",
@@ -193,13 +197,47 @@ def _write_json(path: Path, data: Any) -> None:
         raise
 
 
+def input_files(config: DatasetConfig) -> dict[str, str]:
+    """SHA-256 of each scenario and device file the configuration names, by its path as given."""
+    named = [*(config.bundled or []), *config.devices]
+    return {name: sha256_file(Path(name)) for name in named if is_yaml_file(name)}
+
+
+def _check_inputs(out: Path, config: DatasetConfig) -> None:
+    """Store the input files' checksums, or check them against the stored ones."""
+    wanted = input_files(config)
+    path = out / INPUTS_FILE
+    if not path.is_file():
+        if wanted:  # a data set of built-in names only keeps its folder as it was
+            _write_json(path, wanted)
+        return
+    try:
+        stored = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as err:
+        raise DatasetFolderError(f"{path}: unreadable ({err}); remove the folder") from None
+    changed = [
+        f"{name}: sha256 {str(stored.get(name))[:12]}… when the data set was started, "
+        f"{digest[:12]}… now"
+        for name, digest in wanted.items()
+        if stored.get(name) != digest
+    ]
+    if changed:
+        raise DatasetFolderError(
+            f"{out}: an input file changed since the data set was started; resuming would "
+            "mix its old and new contents (restore it, or use another --out):\n  "
+            + "\n  ".join(changed)
+        )
+
+
 def prepare_folder(out: Path, config: DatasetConfig) -> None:
-    """Create ``out`` with ``config.json``, or check that it holds this configuration.
+    """Create ``out`` with ``config.json`` (and ``inputs.json``), or check that it holds
+    this configuration and these input files.
 
     Raises:
         DatasetFolderError: ``out`` is a file, a non-empty folder that is no
-            data set, or a data set of another configuration (the message
-            lists the keys that differ).
+            data set, a data set of another configuration (the message
+            lists the keys that differ), or one whose scenario or device files
+            changed since it was started (the message names them).
     """
     wanted = config.to_json()
     stored_path = out / CONFIG_FILE
@@ -220,6 +258,7 @@ def prepare_folder(out: Path, config: DatasetConfig) -> None:
                 f"{out} holds a data set of another configuration; resuming needs the same "
                 "arguments (or use another --out). Differences:\n  " + "\n  ".join(diff)
             )
+        _check_inputs(out, config)
         return
     if out.is_dir() and any(out.iterdir()):
         raise DatasetFolderError(
@@ -228,6 +267,7 @@ def prepare_folder(out: Path, config: DatasetConfig) -> None:
         )
     out.mkdir(parents=True, exist_ok=True)
     _write_json(stored_path, wanted)
+    _check_inputs(out, config)
 
 
 def _clean_partials(out: Path) -> None:

@@ -89,3 +89,27 @@ def test_a_scenario_file_is_a_site_like_a_bundled_one_and_a_broken_one_is_named(
     broken.write_text("name: b\nwalls: [\n")
     with pytest.raises(DatasetConfigError, match=r"bundled\[1\]: .*broken.yaml"):
         DatasetConfig(**(BASE | {"bundled": [str(plan_file), str(broken)]})).resolved()
+
+
+def test_a_resumed_data_set_refuses_a_scenario_file_that_changed(tmp_path):
+    """The folder keeps each input file's checksum: a resumed run would otherwise mix two
+    buildings under one name."""
+    from indoorsim.dataset.driver import INPUTS_FILE, DatasetFolderError, prepare_folder
+    from indoorsim.scenario.load import resolve_scenario
+
+    plan_file = tmp_path / "imported.yaml"
+    plan_file.write_text(resolve_scenario("minimal_room").read_text())
+    config = DatasetConfig(
+        **(BASE | {"bundled": [str(plan_file)], "bundled_share": 0.5})
+    ).resolved()
+    out = tmp_path / "data"
+    prepare_folder(out, config)
+    assert (out / INPUTS_FILE).is_file()
+    prepare_folder(out, config)  # the same file: the run resumes
+    plan_file.write_text(plan_file.read_text().replace("minimal", "minimal-edited", 1))
+    with pytest.raises(DatasetFolderError, match=r"(?s)input file changed.*imported\.yaml: sha256"):
+        prepare_folder(out, config)
+    # A data set of built-in names only writes no such file.
+    plain = tmp_path / "plain"
+    prepare_folder(plain, DatasetConfig(**BASE).resolved())
+    assert not (plain / INPUTS_FILE).exists()
