@@ -55,10 +55,7 @@ INSIDE = {
         "share_stride",
         "gyro_rms_1",
         "gyro_rms_2",
-        # gyro_rms_3 left when the held hand stopped following 0.8 of the trunk's yaw
-        # (the ILC traces' flat phones turn a third as much at the stride rate): a
-        # slow walker's texting phone on the generated office turns 0.15 rad/s on its
-        # quietest axis, under the quoted 0.17.
+        "gyro_rms_3",
         "heading_jitter",
         "gyro_drift",
         "surge_step",
