@@ -555,11 +555,22 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         "|---|---|---|---|",
     ]
     per_trace = results.signals.groupby(["data", "trace"])[list(SIGNALS)].mean()
+    apart = []
     for key, label in SIGNALS.items():
         real = float(per_trace.loc["real", key].median())
         sim = float(per_trace.loc["sim", key].median())
         lines.append(f"| {label} | {real:.3g} | {sim:.3g} | {real / sim:.2f} |")
+        if not 0.8 <= real / sim <= 1.25:
+            apart.append(f"{label.split(' (')[0]} ({real / sim:.2f})")
     lines.append("")
+    if apart:
+        # The measured departures of the twins from their real traces: where an
+        # estimator's real/sim error ratio leaves 0.8–1.25, look here first.
+        lines += [
+            "Where the twins depart from their real traces by more than 0.8–1.25 (real / "
+            "sim): " + "; ".join(apart) + ".",
+            "",
+        ]
     if left_out:
         lines += ["Traces without a twin:", ""]
         lines += [f"- {name}: {why}" for name, why in sorted(left_out.items())]
