@@ -9,6 +9,7 @@ import pytest
 from indoorsim.benchmark.sim_to_real import (
     SIGNALS,
     StepWalk,
+    TwinResults,
     as_real_log,
     count_steps,
     passing_times,
@@ -16,6 +17,7 @@ from indoorsim.benchmark.sim_to_real import (
     twin_summary,
     walk_signals,
     write_sim_to_real,
+    write_twin_section,
 )
 from indoorsim.scenario.load import load_site
 from indoorsim.simulate import simulate
@@ -106,7 +108,7 @@ def test_a_twin_shows_every_signal_the_table_compares():
     assert signals["mag_std"] > signals["mag_std_long"] > 0
 
 
-def test_the_summary_gives_each_estimators_real_to_sim_ratio_and_the_rank_agreement():
+def _scores() -> pd.DataFrame:
     rows = []
     for est, real, sim in (("a", 2.0, 1.0), ("b", 3.0, 3.0), ("c", 4.0, 5.0)):
         for trace in ("t1", "t2"):
@@ -133,7 +135,29 @@ def test_the_summary_gives_each_estimators_real_to_sim_ratio_and_the_rank_agreem
                         "path_ratio": 0.9,
                     }
                 )
-    summary, tau = twin_summary(pd.DataFrame(rows))
+    return pd.DataFrame(rows)
+
+
+def test_the_summary_gives_each_estimators_real_to_sim_ratio_and_the_rank_agreement():
+    summary, tau = twin_summary(_scores())
     assert list(summary["ratio"].round(6)) == [2.0, 1.0, 0.8]
     assert tau == pytest.approx(1.0)  # the same order on both
     assert (summary["path_ratio_sim"] == 0.9).all()
+
+
+def test_the_section_names_the_signals_on_which_the_twins_depart(tmp_path):
+    signals = []
+    for trace in ("t1", "t2"):
+        real = dict.fromkeys(SIGNALS, 1.0) | {"acc_std": 3.0, "yaw_stride": 0.5}
+        signals.append({"trace": trace, "data": "real", "seed": -1} | real)
+        for seed in (0, 1):
+            signals.append(
+                {"trace": trace, "data": "sim", "seed": seed} | dict.fromkeys(SIGNALS, 1.0)
+            )
+    results = TwinResults(scores=_scores(), signals=pd.DataFrame(signals), left_out={})
+    text = "\n".join(write_twin_section(tmp_path, results))
+    assert "| a | 2.00 | 1.00 | 2.00 (outside 0.8–1.25) |" in text
+    departs = next(line for line in text.splitlines() if line.startswith("Where the twins depart"))
+    assert "‖a‖ std while walking (3.00)" in departs
+    assert "rate of turn at the stride rate (0.50)" in departs
+    assert "step rate" not in departs
