@@ -40,7 +40,7 @@ from indoorsim.benchmark.evaluation import (
 )
 from indoorsim.benchmark.realism.calibrate import calibrate
 from indoorsim.benchmark.realism.magnetic import magnetic_statistics
-from indoorsim.benchmark.realism.motion import held_phone_motion, motion_statistics
+from indoorsim.benchmark.realism.motion import HELD_KEYS, motion_statistics
 from indoorsim.benchmark.realism.reference import MODELLED_MODES
 from indoorsim.estimators.pdr.steps import PeakStepDetector
 from indoorsim.io.reallogs.ilc import read_ilc_trace
@@ -372,7 +372,7 @@ def walk_signals(rec: Recording) -> dict[str, float]:
             "step_swing": float(np.median(swings)) if swings else float("nan"),
             "gyro_rms_1": stats["gyro_rms_1"],
         }
-        | held_phone_motion(rec)
+        | {key: stats[key] for key in HELD_KEYS}
         | {"mag_std": field["mag_std"], "mag_std_long": field["std_long"]}
     )
 

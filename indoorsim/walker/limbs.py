@@ -140,9 +140,7 @@ def oscillator(
     it the segment's inertia holds it still. Discretised by the bilinear
     transform (at the body's 200 Hz and more, frequency warping is negligible).
     """
-    omega = 2.0 * np.pi * natural_hz
-    b, a = bilinear([1.0], [1.0, 2.0 * damping * omega, omega**2], fs=rate_hz)
-    return lfilter(b, a, drive, axis=0)
+    return _spring(drive, natural_hz, damping, rate_hz, base_driven=False)
 
 
 def transmitted(
@@ -157,11 +155,19 @@ def transmitted(
     inertia holds it still while the base moves under it. Bilinear transform,
     as :func:`oscillator`.
     """
+    return _spring(motion, natural_hz, damping, rate_hz, base_driven=True)
+
+
+def _spring(
+    x: NDArray[np.float64], natural_hz: float, damping: float, rate_hz: float, *, base_driven: bool
+) -> NDArray[np.float64]:
+    """The damped spring's response to ``x`` from rest, by the bilinear transform: driven
+    by a force (1 over the characteristic polynomial) or through its base (the spring
+    and damper's own terms over it)."""
     omega = 2.0 * np.pi * natural_hz
-    b, a = bilinear(
-        [2.0 * damping * omega, omega**2], [1.0, 2.0 * damping * omega, omega**2], fs=rate_hz
-    )
-    return lfilter(b, a, motion, axis=0)
+    den = [1.0, 2.0 * damping * omega, omega**2]
+    b, a = bilinear(den[1:] if base_driven else [1.0], den, fs=rate_hz)
+    return lfilter(b, a, x, axis=0)
 
 
 def to_body(vec: NDArray[np.float64], heading: NDArray[np.float64]) -> NDArray[np.float64]:
