@@ -13,13 +13,22 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from indoorsim.util import quaternion
+from indoorsim.util.kernels import hamilton, normalised, quat_from_rotvec
 from indoorsim.windows import PRESENT_ORDER
 
-__all__ = ["heading_from_rotation", "to_world", "wrap_angle", "yaw_rate"]
+__all__ = [
+    "gyro_attitude",
+    "heading_from_rotation",
+    "to_world",
+    "twist_yaw",
+    "wrap_angle",
+    "yaw_rate",
+]
 
 # Below this norm a vector carries no direction (a missing stream is all zeros).
 _TINY = 1e-9
@@ -91,6 +100,46 @@ def yaw_rate(gyro: ArrayLike, gravity: ArrayLike) -> NDArray[np.float64]:
     norm = np.linalg.norm(g, axis=-1)
     dot = np.einsum("...i,...i->...", w, g)
     return np.where(norm > _TINY, dot / np.where(norm > _TINY, norm, 1.0), 0.0)
+
+
+def twist_yaw(rotation: ArrayLike) -> NDArray[np.float64]:
+    """Yaw of world←phone quaternions (N, 4) as their twist about the world's vertical,
+    2·atan2(q_z, q_w): a turn by α about the vertical, Rz(α) ⊗ q, adds exactly α
+    (its (w, z) pair turns by α/2), whatever the phone's tilt."""
+    q = np.asarray(rotation, dtype=float)
+    return 2.0 * np.arctan2(q[..., 3], q[..., 0])
+
+
+def gyro_attitude(
+    q0: ArrayLike, t0: float, w0: ArrayLike, t: ArrayLike, gyro: ArrayLike
+) -> NDArray[np.float64]:
+    """World←phone attitudes at ``t`` (N,) carried from ``q0`` (at ``t0``, rate ``w0``) by
+    the gyro alone: q ← q ⊗ exp(½·ω̄·Δt), ω̄ the mean of consecutive rates, phone frame.
+
+    Whole-attitude propagation has none of ∫ω·ĝ's creep when the tilt circulates
+    (:func:`yaw_rate`); only the gyro's own errors accumulate.
+    """
+    w = np.ascontiguousarray(gyro, dtype=float).reshape(-1, 3)
+    times = np.ascontiguousarray(t, dtype=float).reshape(-1)
+    out = np.empty((len(times), 4))
+    _propagate(np.asarray(q0, dtype=float), float(t0), np.asarray(w0, dtype=float), times, w, out)
+    return out
+
+
+@numba.njit(cache=True)
+def _propagate(q0, t0, w0, t, w, out):  # pragma: no cover - compiled
+    qw, qx, qy, qz = q0[0], q0[1], q0[2], q0[3]
+    t_prev, ax, ay, az = t0, w0[0], w0[1], w0[2]
+    for k in range(len(t)):
+        dt = t[k] - t_prev
+        bx, by, bz = w[k, 0], w[k, 1], w[k, 2]
+        dw, dx, dy, dz = quat_from_rotvec(
+            0.5 * (ax + bx) * dt, 0.5 * (ay + by) * dt, 0.5 * (az + bz) * dt
+        )
+        pw, px, py, pz = hamilton(qw, qx, qy, qz, dw, dx, dy, dz)
+        qw, qx, qy, qz = normalised(pw, px, py, pz)
+        out[k, 0], out[k, 1], out[k, 2], out[k, 3] = qw, qx, qy, qz
+        t_prev, ax, ay, az = t[k], bx, by, bz
 
 
 def geomagnetic_mean(obs: Mapping[str, NDArray]) -> NDArray[np.float64] | None:

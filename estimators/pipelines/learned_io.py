@@ -93,7 +93,7 @@ from indoorsim.estimators.base import (
     present_streams,
     register,
 )
-from indoorsim.estimators.frames import to_world, wrap_angle
+from indoorsim.estimators.frames import gyro_attitude, to_world, twist_yaw, wrap_angle
 from indoorsim.estimators.nn.inertial import Checkpoint, load_checkpoint
 from indoorsim.estimators.samples import SampleGuard
 from indoorsim.io.recording import Recording
@@ -120,6 +120,14 @@ class LearnedIO:
             ``"start"`` instead turns the episode's first confident velocity
             (speed ≥ ``min_speed_mps``) onto the known start heading — for
             real logs whose map is not tied to north.
+        magnetic_tau_s: None takes each window's heading from the rotation
+            vector as it is. A number holds it on the integrated gyro instead,
+            pulled toward the rotation vector's with this time constant (s):
+            indoors the rotation vector's yaw follows the building's magnetic
+            disturbances, which the gyro does not feel, while the slow pull
+            still bounds the gyro's drift. RoNIN feeds its network from the
+            magnetometer-free game rotation vector for the same reason; real
+            logs often lack that stream, so the gyro is integrated here.
     """
 
     name: ClassVar[str] = "learned-io"
@@ -129,6 +137,7 @@ class LearnedIO:
     checkpoint: str | None = None
     min_speed_mps: float = 0.1
     frame_offset: str = "site"
+    magnetic_tau_s: float | None = None
 
     _net: Checkpoint | None = field(default=None, init=False, repr=False, compare=False)
     _to_building: float = field(default=0.0, init=False, repr=False, compare=False)
@@ -150,6 +159,14 @@ class LearnedIO:
     _grid0: float = field(default=0.0, init=False, repr=False, compare=False)
     _next_k: int = field(default=0, init=False, repr=False, compare=False)
     _guard: SampleGuard = field(default_factory=SampleGuard, init=False, repr=False, compare=False)
+    # Gyro-held heading: the last sample (time, rate, rotation vector, the rotation
+    # vector's accumulated yaw excess over the gyro), and the slow estimate of that
+    # excess (None until the first window).
+    _carry: tuple[float, NDArray[np.float64], NDArray[np.float64], float] | None = field(
+        default=None, init=False, repr=False, compare=False
+    )
+    _magnetic_offset: float | None = field(default=None, init=False, repr=False, compare=False)
+    _offset_t: float = field(default=0.0, init=False, repr=False, compare=False)
 
     @property
     def heading(self) -> float:
@@ -159,6 +176,10 @@ class LearnedIO:
     def __post_init__(self) -> None:
         if self.frame_offset not in ("site", "start"):
             raise ValueError(f"frame_offset must be 'site' or 'start', got {self.frame_offset!r}")
+        if self.magnetic_tau_s is not None and not self.magnetic_tau_s > 0:
+            raise ValueError(
+                f"magnetic_tau_s must be positive or None, got {self.magnetic_tau_s!r}"
+            )
 
     def fit(self, site: SiteContext, train: Sequence[Recording]) -> None:
         """Load the checkpoint and note the site's frames and the phone's IMU rate.
@@ -181,6 +202,8 @@ class LearnedIO:
         self._to_building = self._site_offset
         self._align_pending = self.frame_offset == "start"
         self._guard.reset()
+        self._carry = None
+        self._magnetic_offset = None
         self._clear()
 
     def _clear(self) -> None:
@@ -204,6 +227,10 @@ class LearnedIO:
             self._t_done = float(t[-1])
             self._clear()
             return self._position.copy()
+        # Every window, so that the gyro's integral misses none.
+        disturbance = 0.0
+        if self.magnetic_tau_s is not None and present_streams(obs)["gyro"]:
+            disturbance = self._magnetic_disturbance(obs, valid)
         imu = np.concatenate(
             [to_world(attitude, obs["accel"][valid]), to_world(attitude, obs["gyro"][valid])],
             axis=1,
@@ -220,6 +247,7 @@ class LearnedIO:
         angle = self._to_building
         if self._net.frame == "gravity_aligned":
             angle += self._game_to_world_yaw(obs, valid)
+        angle -= disturbance
         if self._align_pending and np.hypot(v[0], v[1]) >= self.min_speed_mps:
             # The first confident velocity defines the map's rotation.
             shift = float(wrap_angle(self._heading - math.atan2(v[1], v[0]) - angle))
@@ -257,6 +285,38 @@ class LearnedIO:
         )
         yaw = 2.0 * np.arctan2(rel[:, 3], rel[:, 0])
         return float(np.angle(np.exp(1j * yaw).mean()))
+
+    def _magnetic_disturbance(self, obs: Observation, valid: NDArray[np.bool_]) -> float:
+        """How far the rotation vector's yaw sits from the gyro-held heading over this
+        window, rad: its mean excess over the gyro's turn since the start, less the
+        slow part of that excess (low-passed with ``magnetic_tau_s``), which is the
+        gyro's drift.
+
+        The gyro's turn is the whole attitude carried by the gyro from the rotation
+        vector's at the previous sample (:func:`~indoorsim.estimators.frames.gyro_attitude`),
+        so neither the tilt's drift nor a circulating tilt's creep accumulates; the
+        excess is the twist about the vertical of rotation ⊗ carried*.
+        """
+        assert self.magnetic_tau_s is not None
+        t = obs["t"][valid]
+        fused = quaternion.normalise(obs["rotation"][valid], min_norm=1e-9)
+        gyro = obs["gyro"][valid]
+        if self._carry is None:
+            self._carry = (float(t[0]), gyro[0], fused[0], 0.0)
+        t0, w0, q0, excess0 = self._carry
+        carried = gyro_attitude(q0, t0, w0, t, gyro)
+        excess = excess0 + wrap_angle(
+            twist_yaw(quaternion.multiply(fused, quaternion.conjugate(carried)))
+        )
+        self._carry = (float(t[-1]), gyro[-1], fused[-1], float(excess[-1]))
+        mean = float(excess.mean())
+        if self._magnetic_offset is None:
+            self._magnetic_offset = mean
+        else:
+            pull = -math.expm1(-(float(t[-1]) - self._offset_t) / self.magnetic_tau_s)
+            self._magnetic_offset += pull * (mean - self._magnetic_offset)
+        self._offset_t = float(t[-1])
+        return mean - self._magnetic_offset
 
     def _regrid(self, t: NDArray[np.float64], imu: NDArray[np.float64]) -> NDArray[np.float64]:
         """Samples at the checkpoint's rate, interpolated linearly on the samples' own times.

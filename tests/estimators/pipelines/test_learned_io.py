@@ -359,3 +359,63 @@ def test_train_command_rejects_a_phone_frame_and_missing_data(tmp_path, capsys):
     assert "not a folder" in capsys.readouterr().err
     assert main(["train", "--data", str(tmp_path), *out]) == 2
     assert "dataset_card.json" in capsys.readouterr().err
+
+
+def _yaw(angle: np.ndarray) -> np.ndarray:
+    return np.column_stack([np.cos(angle / 2), 0 * angle, 0 * angle, np.sin(angle / 2)])
+
+
+# A phone tilted 30° about an oblique axis of its own: the yaw is read through the tilt.
+_TILT = np.array(
+    [math.cos(math.pi / 12), 0.6 * math.sin(math.pi / 12), 0.8 * math.sin(math.pi / 12), 0.0]
+)
+
+
+def _held(tau_s: float | None) -> LearnedIO:
+    est = LearnedIO(magnetic_tau_s=tau_s)
+    est.reset(StartInfo(position=np.zeros(2), heading=0.0, t0=0.0))
+    return est
+
+
+def _disturbances(est: LearnedIO, t, rotation, gyro, window: int = 50) -> list[float]:
+    out = []
+    for k in range(0, len(t), window):
+        s = slice(k, k + window)
+        obs = _obs(t[s], np.zeros((len(t[s]), 3)), gyro[s], rotation[s])
+        out.append(est._magnetic_disturbance(obs, np.ones(len(t[s]), bool)))
+    return out
+
+
+def test_a_magnetic_pull_on_the_rotation_vector_is_told_from_a_turn():
+    """The fused yaw bumps by 15° for 3 s while the gyro feels nothing: the whole bump
+    is disturbance. A real turn at 40°/s, felt by the gyro through the tilt, is none."""
+    t = np.arange(500) / 50.0
+    bump = np.where((t >= 3.0) & (t < 6.0), math.radians(15.0), 0.0)
+    still = _disturbances(_held(1e9), t, quaternion.multiply(_yaw(bump), _TILT), np.zeros((500, 3)))
+    expected = np.zeros(10)
+    expected[3:6] = math.radians(15.0)
+    np.testing.assert_allclose(still, expected, atol=1e-8)
+
+    rate = math.radians(40.0)
+    rotation = quaternion.multiply(_yaw(rate * t), _TILT)
+    gyro = quaternion.rotate(rotation, np.tile([0.0, 0.0, rate], (500, 1)), inverse=True)
+    turning = _disturbances(_held(1e9), t, rotation, gyro)
+    np.testing.assert_allclose(turning, 0.0, atol=1e-9)
+
+
+def test_gyro_drift_is_pulled_back_with_the_time_constant():
+    """A gyro biased by b about the vertical, a steady rotation vector: the held heading
+    lags the ramp as a first-order filter does, pulled once per 1 s window:
+    b·T/(e^{T/τ} − 1) ≈ b·τ, never more."""
+    bias, tau = math.radians(0.5), 20.0
+    t = np.arange(200 * 50) / 50.0
+    rotation = np.tile(_TILT, (len(t), 1))
+    gyro = quaternion.rotate(rotation, np.tile([0.0, 0.0, bias], (len(t), 1)), inverse=True)
+    lag = _disturbances(_held(tau), t, rotation, gyro)
+    assert lag[-1] == pytest.approx(-bias / math.expm1(1.0 / tau), rel=1e-3)
+    assert max(abs(v) for v in lag) <= bias * tau
+
+
+def test_magnetic_time_constant_must_be_positive():
+    with pytest.raises(ValueError, match="magnetic_tau_s"):
+        LearnedIO(magnetic_tau_s=0.0)
