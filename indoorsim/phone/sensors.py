@@ -394,13 +394,17 @@ class MagnetometerErrors:
 
     @classmethod
     def draw(cls, spec: MagnetometerSpec, rng: np.random.Generator) -> MagnetometerErrors:
-        """Draw one unit's residuals: every entry Gaussian with the spec's 1σ."""
+        """Draw one unit's residuals: every entry Gaussian with the spec's 1σ, except a
+        hard-iron offset the spec fixes (the same draws are made either way)."""
         z = rng.standard_normal(9)
         soft = np.diag(spec.soft_iron_diag_sigma * z[:3])
         upper = np.triu_indices(3, 1)
         soft[upper] = spec.soft_iron_offdiag_sigma * z[3:6]
         soft[upper[::-1]] = soft[upper]
-        return cls(hard_iron_uT=spec.hard_iron_sigma_uT * z[6:], soft_iron=soft)
+        hard = spec.hard_iron_sigma_uT * z[6:]
+        if spec.hard_iron_uT is not None:
+            hard = np.array(spec.hard_iron_uT, dtype=float)
+        return cls(hard_iron_uT=hard, soft_iron=soft)
 
 
 def apply_magnetometer(

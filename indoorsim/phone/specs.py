@@ -147,6 +147,10 @@ class MagnetometerSpec:
         soft_iron_offdiag_sigma: 1σ of A's off-diagonal entries (cross-coupling), fraction.
         resolution_uT: quantisation step, µT (0: not quantised).
         range_uT: saturation limit ±range per axis, µT (``inf``: never saturates).
+        hard_iron_uT: this unit's residual hard-iron offset h (x, y, z), phone
+            frame, µT, where it is known — a twin calibrated on a real
+            recording (``indoorsim calibrate``); None draws h per run from
+            ``hard_iron_sigma_uT``.
     """
 
     rate_hz: float = 100.0
@@ -156,8 +160,17 @@ class MagnetometerSpec:
     soft_iron_offdiag_sigma: float = 0.0
     resolution_uT: float = 0.0
     range_uT: float = math.inf
+    hard_iron_uT: tuple[float, float, float] | None = None
 
     def __post_init__(self) -> None:
+        if self.hard_iron_uT is not None:
+            offset = tuple(float(v) for v in self.hard_iron_uT)
+            if len(offset) != 3 or not all(math.isfinite(v) for v in offset):
+                raise ValueError(
+                    f"MagnetometerSpec.hard_iron_uT must be three finite numbers (x, y, z), "
+                    f"got {self.hard_iron_uT!r}"
+                )
+            object.__setattr__(self, "hard_iron_uT", offset)
         _check(
             self,
             nonnegative=(
@@ -381,6 +394,23 @@ class DeviceFileError(ValueError):
 
 
 _FLAGS = frozenset({"on_change", "throttling", "continuous"})
+# Fields that hold a vector, or nothing.
+_VECTORS = frozenset({"hard_iron_uT"})
+
+
+def _figure(key: str, value: Any) -> Any:
+    """A device file's value as its field takes it: a flag, a vector (or None), a number."""
+    if key in _FLAGS:
+        return bool(value)
+    if key in _VECTORS:
+        if value is None:
+            return None
+        if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
+            raise ValueError(f"{key} must be a list of three numbers, got {value!r}")
+        return tuple(float(v) for v in value)
+    return float(value)
+
+
 """The boolean fields of the sensor specs (every other field is a number)."""
 
 _SPECS = {
@@ -396,6 +426,8 @@ def device_to_dict(profile: DeviceProfile) -> dict[str, Any]:
     """``profile`` as plain data (the layout of a device YAML file)."""
     data = dataclasses.asdict(profile)
     data["sources"] = list(profile.sources)
+    if profile.mag.hard_iron_uT is not None:
+        data["mag"]["hard_iron_uT"] = list(profile.mag.hard_iron_uT)
     return data
 
 
@@ -425,9 +457,7 @@ def device_from_dict(data: Mapping[str, Any], *, source: str = "device") -> Devi
             bad = sorted(set(section) - fields)
             if bad:
                 raise DeviceFileError(f"{source}: {name}: unknown field(s) {bad}")
-            kwargs[name] = cls(
-                **{k: float(v) if k not in _FLAGS else bool(v) for k, v in section.items()}
-            )
+            kwargs[name] = cls(**{k: _figure(k, v) for k, v in section.items()})
         kwargs["sources"] = tuple(str(line) for line in kwargs.get("sources", ()))
         return DeviceProfile(**kwargs)
     except (TypeError, ValueError) as err:

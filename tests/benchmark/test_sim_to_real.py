@@ -102,6 +102,9 @@ def test_a_twin_shows_every_signal_the_table_compares():
     twin = as_real_log(rec, np.asarray(site.scenario.routes[route].waypoints, dtype=float))
     signals = walk_signals(twin)
     assert set(signals) == set(SIGNALS)
+    # The hard iron only where the walk turns far enough to show it; this one does not.
+    assert np.isnan(signals.pop("hard_iron"))
+    assert signals["mag_std_iron_free"] == signals["mag_std"]
     assert all(np.isfinite(v) for v in signals.values()), signals
     # A held phone bobs more than it surges, and the field varies along a real corridor.
     assert signals["bob_step"] > 3 * signals["surge_step"]
@@ -149,11 +152,12 @@ def test_the_section_names_the_signals_on_which_the_twins_depart(tmp_path):
     signals = []
     for trace in ("t1", "t2"):
         real = dict.fromkeys(SIGNALS, 1.0) | {"acc_std": 3.0, "yaw_stride": 0.5}
+        # A hard iron shown by one real trace only: its twin's alone is compared.
+        real["hard_iron"] = 10.0 if trace == "t2" else np.nan
         signals.append({"trace": trace, "data": "real", "seed": -1} | real)
         for seed in (0, 1):
-            signals.append(
-                {"trace": trace, "data": "sim", "seed": seed} | dict.fromkeys(SIGNALS, 1.0)
-            )
+            sim = dict.fromkeys(SIGNALS, 1.0) | {"hard_iron": 3.0 if trace == "t1" else 10.0}
+            signals.append({"trace": trace, "data": "sim", "seed": seed} | sim)
     results = TwinResults(scores=_scores(), signals=pd.DataFrame(signals), left_out={})
     text = "\n".join(write_twin_section(tmp_path, results))
     assert "| a | 2.00 | 1.00 | 2.00 (outside 0.8–1.25) |" in text
@@ -161,3 +165,4 @@ def test_the_section_names_the_signals_on_which_the_twins_depart(tmp_path):
     assert "‖a‖ std while walking (3.00)" in departs
     assert "rate of turn at the stride rate (0.50)" in departs
     assert "step rate" not in departs
+    assert "residual hard iron" not in departs  # 10 against 10 on t2; t1's 3 is unpaired

@@ -18,6 +18,12 @@ simulated one, so a simulated recording with known parameters checks the fit:
 * **Gyroscope bias**: the mean rate per axis while still (the turn-on bias
   plus whatever drift has built up); the profile's ``turn_on_bias_sigma`` is
   its RMS over the axes, the one draw this recording shows.
+* **Magnetometer's residual hard iron**: the offset Android's online
+  calibration left, fitted from the walk's own field and fused tilt where the
+  phone turns far enough
+  (:func:`~indoorsim.benchmark.realism.magnetic.hard_iron_residual`); its
+  part along the vertical cannot be told while the phone's tilt stays put and
+  is 0. The profile takes it as this unit's fixed offset (``mag.hard_iron_uT``).
 * **Light and WiFi**: the light sensor's highest event rate, its resolution (the
   smallest step between reported values) and whether it reports on change (no
   two consecutive reports equal); the scan interval (median gap between scans)
@@ -31,10 +37,11 @@ simulated one, so a simulated recording with known parameters checks the fit:
   stood before the first step and after the last.
 
 Whatever a recording cannot show (scale factors, misalignment, bias
-instability, soft iron, the light sensor's angular response, WiFi fading) is
-taken from a base profile and listed in :attr:`Calibration.not_measured`.
-The result is written as YAML (:func:`write_calibration`) with a ``device:``
-and a ``walker:`` section: ``--device FILE`` and ``--walker FILE`` read it.
+instability, soft iron, a hard iron without turns, the light sensor's angular
+response, WiFi fading) is taken from a base profile and listed in
+:attr:`Calibration.not_measured`. The result is written as YAML
+(:func:`write_calibration`) with a ``device:`` and a ``walker:`` section:
+``--device FILE`` and ``--walker FILE`` read it.
 """
 
 from __future__ import annotations
@@ -52,6 +59,7 @@ import yaml
 from numpy.typing import NDArray
 from scipy.signal import welch
 
+from indoorsim.benchmark.realism.magnetic import HARD_IRON_MIN_ARC_DEG, hard_iron_residual
 from indoorsim.benchmark.realism.motion import walking_signals
 from indoorsim.benchmark.realism.stats import long_runs, moving_std, peak_frequency
 from indoorsim.io.recording import Recording
@@ -321,7 +329,18 @@ def calibrate(
         "random_walk",
     ):
         not_measured[f"accel/gyro.{figure}"] = f"not shown by one recording: {base_profile.name}'s"
-    not_measured["mag hard and soft iron"] = f"not shown without turning: {base_profile.name}'s"
+    iron = hard_iron_residual(rec)
+    if iron is None:
+        not_measured["mag hard iron"] = (
+            f"not shown without turns of {HARD_IRON_MIN_ARC_DEG:.0f}° or more under a "
+            f"fused attitude: {base_profile.name}'s spread"
+        )
+    else:
+        data["mag"]["hard_iron_uT"] = [round(float(v), 2) for v in iron.offset_uT]
+        for axis, v in zip("xyz", iron.offset_uT, strict=True):
+            measured[f"mag.hard_iron_{axis}_uT"] = float(v)
+        not_measured["mag hard iron along the vertical"] = "not shown at one tilt: 0"
+    not_measured["mag soft iron"] = f"not shown without tilting: {base_profile.name}'s"
     not_measured["light angular response, wifi fading"] = f"{base_profile.name}'s"
 
     data["name"] = name

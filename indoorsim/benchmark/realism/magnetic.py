@@ -28,11 +28,20 @@ shorter than :data:`MIN_PATH_M`):
 ``std_short``    std of the 0.5–2 m band (µT)
 ``corr_length``  distance at which the autocorrelation first falls to 1/e (m)
 ===============  ==============================================================
+
+**The phone's own offset.** A calibrated magnetometer (Android's
+``TYPE_MAGNETIC_FIELD``) keeps a residual hard-iron offset h, fixed in the
+phone, that its online calibration has not removed. It turns with the phone,
+so ‖m‖ = ‖B + h‖ changes at every turn by up to 2·|h| — building-scale
+"structure" that belongs to the phone, not the building.
+:func:`hard_iron_residual` measures h from a walk's own magnetometer, and
+``magnetic_statistics(rec, hard_iron_uT=h)`` measures the field without it.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -43,11 +52,17 @@ from indoorsim.io.recording import Recording
 __all__ = [
     "BANDS_M",
     "GRID_M",
+    "HARD_IRON_MAX_PLANE_TILT_DEG",
+    "HARD_IRON_MAX_SPREAD",
+    "HARD_IRON_MIN_ARC_DEG",
+    "HARD_IRON_MIN_FLATNESS",
     "MAGNETIC_KEYS",
     "MIN_PATH_M",
+    "HardIronFit",
     "along_path",
     "band_std",
     "correlation_length",
+    "hard_iron_residual",
     "magnetic_statistics",
 ]
 
@@ -165,12 +180,16 @@ def field_statistics(s: ArrayLike, v: ArrayLike, spacing: float = GRID_M) -> dic
     return out
 
 
-def magnetic_statistics(rec: Recording) -> dict[str, float]:
-    """The along-path statistics of ``rec``'s ‖m‖ (see the module docstring for the keys)."""
+def magnetic_statistics(rec: Recording, hard_iron_uT: ArrayLike | None = None) -> dict[str, float]:
+    """The along-path statistics of ``rec``'s ‖m‖ (see the module docstring for the keys),
+    less the phone-frame offset ``hard_iron_uT`` (µT) when one is given."""
     if "mag" not in rec.streams or not ({"truth", "waypoints"} & set(rec.streams)):
         return dict.fromkeys(MAGNETIC_KEYS, math.nan)
     mag = rec.mag
-    norm = np.linalg.norm(mag[["x", "y", "z"]].to_numpy(dtype=float), axis=1)
+    values = mag[["x", "y", "z"]].to_numpy(dtype=float)
+    if hard_iron_uT is not None:
+        values = values - np.asarray(hard_iron_uT, dtype=float)
+    norm = np.linalg.norm(values, axis=1)
     where = rec.true_positions()
     s, v = along_path(
         mag.index.to_numpy(dtype=float),
@@ -179,3 +198,105 @@ def magnetic_statistics(rec: Recording) -> dict[str, float]:
         where[["x", "y"]].to_numpy(dtype=float),
     )
     return field_statistics(s, v)
+
+
+HARD_IRON_MIN_ARC_DEG = 150.0
+"""How far round its circle the field must turn (deg) for the circle's centre to be
+fitted: a walk with fewer turns shows an offset's effect but does not pin it down."""
+
+HARD_IRON_MAX_SPREAD = 0.1
+"""Largest RMS distance of the samples from the fitted circle, as a share of its radius,
+for the circle to describe them: beyond it the building's own field varies along the walk
+as much as the offset turns, or the phone's tilt does not stay put (a pocket)."""
+
+HARD_IRON_MIN_FLATNESS = 2.0
+"""The samples' spread within their plane (its narrower direction) over their spread out
+of it, at least: below it they lie nearly on a line and the plane is not told."""
+
+HARD_IRON_MAX_PLANE_TILT_DEG = 20.0
+"""Largest angle between the circle's plane and the horizontal the accelerometer's mean
+(gravity) shows: a plane at a steeper angle is not the phone turning about the vertical."""
+
+_HARD_IRON_MIN_SAMPLES = 100
+
+
+@dataclass(frozen=True)
+class HardIronFit:
+    """A walk's residual hard-iron offset, fitted by :func:`hard_iron_residual`.
+
+    Attributes:
+        offset_uT: (3,) the offset in the phone frame, µT. Its part along the
+            phone-frame vertical cannot be told from the building's vertical
+            field while the tilt stays put, and is taken as 0.
+        horizontal_uT: the offset's size square to the vertical, µT: the part that
+            turns with the phone.
+        radius_uT: the circle's radius: the horizontal field the phone saw, µT.
+        arc_deg: how far round the circle the samples go, deg.
+        spread_uT: RMS distance of the samples from the circle in its plane, µT.
+    """
+
+    offset_uT: NDArray[np.float64]
+    horizontal_uT: float
+    radius_uT: float
+    arc_deg: float
+    spread_uT: float
+
+
+def hard_iron_residual(rec: Recording) -> HardIronFit | None:
+    """The phone's residual hard-iron offset, from a walk's magnetometer alone.
+
+    A phone that keeps its tilt while it turns about the vertical reads
+    m = Rᵀ·B + h: its samples run round a circle, in the plane square to the
+    phone-frame vertical û, of radius |B_h|, centred on h + B_v·û. The plane
+    is the samples' least-spread direction (SVD), the circle in it is fitted
+    by algebraic least squares (Kåsa) — both exact for points on a circle —
+    and the offset is the centre less its part along û: h's part square to the
+    vertical. No attitude is used, so a fused tilt's bias (1–2° while walking,
+    which would pass 35 µT·sin 2° ≈ 1.2 µT of the vertical field off as an
+    offset) does not enter.
+
+    Returns None where it cannot be told: no ``mag`` stream, fewer than 100
+    samples, samples not spread over a plane (:data:`HARD_IRON_MIN_FLATNESS`), a
+    plane steeper than :data:`HARD_IRON_MAX_PLANE_TILT_DEG` against the
+    accelerometer's mean where there is one, an arc under
+    :data:`HARD_IRON_MIN_ARC_DEG`, or a spread over :data:`HARD_IRON_MAX_SPREAD`
+    of the radius.
+    """
+    if "mag" not in rec.streams or len(rec.mag) < _HARD_IRON_MIN_SAMPLES:
+        return None
+    m = rec.mag[["x", "y", "z"]].to_numpy(dtype=float)
+    m = m[np.isfinite(m).all(axis=1)]
+    if len(m) < _HARD_IRON_MIN_SAMPLES:
+        return None
+    mean = m.mean(axis=0)
+    _, spreads, axes = np.linalg.svd(m - mean, full_matrices=False)
+    e1, e2, up = axes
+    # The samples must span a plane (a short arc is nearly a line, whose plane is
+    # anyone's), and that plane must be the horizontal one the phone turned in.
+    if spreads[1] < HARD_IRON_MIN_FLATNESS * spreads[2]:
+        return None
+    if "accel" in rec.streams and len(rec.accel):
+        gravity = rec.accel[["x", "y", "z"]].to_numpy(dtype=float).mean(axis=0)
+        tilt = abs(float(gravity @ up)) / max(float(np.linalg.norm(gravity)), 1e-9)
+        if tilt < math.cos(math.radians(HARD_IRON_MAX_PLANE_TILT_DEG)):
+            return None
+    u, v = (m - mean) @ e1, (m - mean) @ e2
+    design = np.column_stack([u, v, np.ones_like(u)])
+    (a, b, c), *_ = np.linalg.lstsq(design, u * u + v * v, rcond=None)
+    a, b = a / 2.0, b / 2.0
+    radius = math.sqrt(max(c + a * a + b * b, 0.0))
+    spread = float(np.sqrt(np.mean((np.hypot(u - a, v - b) - radius) ** 2)))
+    angles = np.sort(np.arctan2(v - b, u - a))
+    gaps = np.diff(np.concatenate([angles, [angles[0] + 2 * math.pi]]))
+    arc = math.degrees(2 * math.pi - float(gaps.max()))
+    if arc < HARD_IRON_MIN_ARC_DEG or not spread <= HARD_IRON_MAX_SPREAD * radius:
+        return None
+    centre = mean + a * e1 + b * e2
+    offset = centre - (centre @ up) * up
+    return HardIronFit(
+        offset_uT=offset,
+        horizontal_uT=float(np.linalg.norm(offset)),
+        radius_uT=radius,
+        arc_deg=arc,
+        spread_uT=spread,
+    )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -21,6 +22,7 @@ from indoorsim.phone.devices import DeviceFileError, get_device
 from indoorsim.phone.sensors import apply_inertial, apply_magnetometer, sample_times
 from indoorsim.phone.specs import InertialSpec, MagnetometerSpec
 from indoorsim.scenario.load import load_site
+from indoorsim.scenario.schema import MagneticSpec
 from indoorsim.simulate import simulate
 from indoorsim.walker.gait import WalkerParams
 
@@ -136,6 +138,38 @@ def test_the_written_calibration_drives_simulate_and_round_trips(walked, tmp_pat
         seed=0,
     )
     assert twin.meta["device"] == "twin"
+
+
+def test_a_walk_with_turns_gives_back_its_magnetometers_residual_hard_iron(tmp_path):
+    """A flat-held phone with a known offset, walked round the minimal room without its
+    steel (a building's field would bend the circle): the twin's profile carries it."""
+    nexus = get_device("nexus_5x")
+    offset = (9.0, -6.0, 0.0)
+    phone = dataclasses.replace(nexus, mag=dataclasses.replace(nexus.mag, hard_iron_uT=offset))
+    room = load_site("minimal_room").scenario
+    site = load_site(room.model_copy(update={"magnetic": MagneticSpec()}))
+    rec = simulate(
+        site, route="main", mode=[(0.0, "handheld", {"pitch_deg": 0.0})], device=phone, seed=3
+    )
+    cal = calibrate(rec, name="twin")
+    np.testing.assert_allclose(cal.device.mag.hard_iron_uT, offset, atol=1.0)
+    path = write_calibration(cal, tmp_path / "twin.yaml")
+    assert get_device(str(path)).mag.hard_iron_uT == cal.device.mag.hard_iron_uT
+    # Standing still, nothing turns: the base profile's spread stands, and says why.
+    still, _, _ = _phone_at_rest(30.0)
+    at_rest = calibrate(still)
+    assert at_rest.device.mag.hard_iron_uT is None
+    assert "mag hard iron" in at_rest.not_measured
+
+
+def test_a_device_files_hard_iron_must_be_three_numbers(tmp_path):
+    path = tmp_path / "phone.yaml"
+    path.write_text("name: p\nmag: {hard_iron_uT: [1.0, 2.0]}\n")
+    with pytest.raises(DeviceFileError, match="hard_iron_uT must be three finite numbers"):
+        get_device(str(path))
+    path.write_text("name: p\nmag: {hard_iron_uT: 5.0}\n")
+    with pytest.raises(DeviceFileError, match="hard_iron_uT must be a list of three numbers"):
+        get_device(str(path))
 
 
 def test_bad_inputs_are_named():
