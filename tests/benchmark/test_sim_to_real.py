@@ -16,9 +16,11 @@ from indoorsim.benchmark.sim_to_real import (
     tune_step_detector,
     twin_summary,
     walk_signals,
+    waypoint_lead,
     write_sim_to_real,
     write_twin_section,
 )
+from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
 from indoorsim.simulate import simulate
 
@@ -89,10 +91,41 @@ def test_a_twin_is_scored_as_a_real_log_at_its_waypoints():
     twin = as_real_log(rec, np.asarray(route.waypoints, dtype=float))
     assert "truth" not in twin.streams and "steps" not in twin.streams
     marks = twin.waypoints[["x", "y"]].to_numpy()
-    assert len(marks) == len(route.waypoints)
-    # The phone passes each waypoint within the body's clearance and arm's reach.
-    assert np.linalg.norm(marks - np.asarray(route.waypoints), axis=1).max() < 1.0
-    assert np.all(np.diff(twin.waypoints.index.to_numpy()) > 0)
+    # Marked as a surveyor marks them: at the waypoints' positions.
+    np.testing.assert_array_equal(marks, np.asarray(route.waypoints, dtype=float))
+    passing = twin.waypoints.index.to_numpy()
+    assert np.all(np.diff(passing) > 0)
+    # The body passes within reach of each waypoint when it is marked.
+    truth = rec.truth
+    at = np.searchsorted(truth.index.to_numpy(), passing)
+    body = truth[["body_x", "body_y"]].to_numpy()[at]
+    assert np.linalg.norm(body - marks, axis=1).max() < 1.0
+    # Marked 0.8 s early, each mark moves 0.8 s back (the first no earlier than the start).
+    early = as_real_log(rec, np.asarray(route.waypoints, dtype=float), lead_s=0.8)
+    np.testing.assert_allclose(early.waypoints.index.to_numpy()[1:], passing[1:] - 0.8, atol=1e-12)
+    assert early.waypoints.index[0] == max(passing[0] - 0.8, truth.index[0])
+
+
+def test_the_lead_of_a_corner_mark_is_read_from_the_gyros_turn():
+    """A 90° left turn centred 0.8 s after the corner was marked, on a level phone."""
+    t = np.arange(0.0, 20.0, 0.02)
+    centre, width = 10.8, 0.4
+    rate = np.exp(-0.5 * ((t - centre) / width) ** 2)
+    rate *= (np.pi / 2) / np.trapezoid(rate, t)
+    index = pd.Index(t, name="t")
+    streams = {
+        "gyro": pd.DataFrame({"x": 0 * t, "y": 0 * t, "z": rate}, index=index),
+        "accel": pd.DataFrame({"x": 0 * t, "y": 0 * t, "z": 9.81 + 0 * t}, index=index),
+        "waypoints": pd.DataFrame(
+            {"x": [0.0, 10.0, 10.0], "y": [0.0, 0.0, 10.0]},
+            index=pd.Index([0.0, 10.0, 19.0], name="t"),
+        ),
+    }
+    lead = waypoint_lead(Recording._from_built(streams, {}))
+    np.testing.assert_allclose(lead, [0.8], atol=0.01)
+    # A right turn where the map turns left is no turn of that corner's.
+    streams["gyro"]["z"] = -rate
+    assert len(waypoint_lead(Recording._from_built(streams, {}))) == 0
 
 
 def test_a_twin_shows_every_signal_the_table_compares():
