@@ -18,9 +18,10 @@ The packaged checkpoint
 
 ``estimators/nn/checkpoints/learned_io/`` (``weights.pt`` and ``model.json``,
 330 kB) was made by these commands, run from the repository's root with the
-real-data folder at ``../shared/realdata`` (about 2.5 min on 2 cores: 5 s for
-the plans, 81 s for the data, 60 s for training; the data set and training
-commands, per-epoch losses and versions are in its ``model.json``)::
+real-data folder at ``../shared/realdata`` (2.5–4 min on 2 cores: 5 s for
+the plans, 81–151 s for the data, 60–72 s for training, the longer times with
+another job running; the data set and training commands, per-epoch losses and
+versions are in its ``model.json``)::
 
     for s in 1 2 3; do indoorsim import-plan \
         ../shared/realdata/ms-indoor-location-2020/site1/F1/geojson_map.json \
@@ -37,8 +38,8 @@ split — so the real traces' building is seen in simulation, their sensor data
 never. No bundled scenario is used, so the leaderboard's buildings are unseen.
 Six phone models, four carrying modes with changes, the IMU at 50 Hz in 2 s
 windows every 1 s: 26 814 windows, 24 sites to train on, 3 to validate, 3 to
-test. Final losses (m²/s², mean of both velocity components): train 0.0267,
-val 0.0591, test 0.0203 — an RMS velocity error of about 0.14 m/s per axis on
+test. Final losses (m²/s², mean of both velocity components): train 0.0270,
+val 0.0586, test 0.0213 — an RMS velocity error of about 0.14 m/s per axis on
 the test buildings. Training is deterministic on CPU: the commands give the
 same ``weights.pt`` bytes for the same ``--threads`` and ``--workers`` (add
 ``--overwrite`` to retrain in place).
