@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v4`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v3`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -215,15 +215,11 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       trunk's surge and sway, it follows a third of the trunk's yaw and wanders
       slowly in yaw, it bobs with the elbow at the holding side): a seed gives
       other observations and errors. Spaces, rewards and arguments are unchanged.
-    - v4: the held phone's walks changed again (it lies across the palm, the wrist
-      is damped harder, the hand trembles and wanders slowly in tilt as the real
-      flat-held phones' gyros show): a seed gives other observations and errors.
-      Spaces, rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v4")
+        >>> env = gym.make("indoorsim/MinimalRoom-v3")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)

@@ -195,10 +195,8 @@ class Handheld(CarryMode):
     (≈ 0 ± 10°)."""
     hand: Literal["right", "left"] = "right"
     """Holding hand: the phone sits slightly to that side."""
-    tremor_deg: float = 0.12
-    """RMS of the hand's 8–12 Hz angular tremor: the 16 ILC traces' flat-held phones
-    turn 0.15–0.19 rad/s RMS about their tilt axes in the 5–12 Hz band (median),
-    which 0.12° at 8–12 Hz gives [E]."""
+    tremor_deg: float = 0.03
+    """RMS of the hand's 8–12 Hz angular tremor [E]."""
     tremor_mm: float = 0.015
     """RMS of the hand's 8–12 Hz positional tremor (≈ 0.06 m/s² RMS) [E]."""
     forearm_m: float = 0.3
@@ -215,11 +213,9 @@ class Handheld(CarryMode):
     """Distance from the wrist to the centre of mass of hand and phone, along the hand [E]."""
     palm_height_m: float = 0.02
     """Height of that centre of mass above the forearm's axis (the phone lies on the palm) [E]."""
-    thumb_offset_m: float = 0.01
-    """Its offset beside the forearm's axis, toward the thumb: a phone held flat to
-    be read lies across the palm, its centre of mass near the forearm's axis. The
-    ILC traces' flat-held phones rock 0.09 rad/s RMS about their long axis in the
-    step-rate band (1.3–2.6 Hz, median); a 3 cm offset rocked them 0.24 [E]."""
+    thumb_offset_m: float = 0.03
+    """Its offset beside the forearm's axis, toward the thumb: a phone held in one
+    hand reaches past the thumb, toward the body's midline [E]."""
     wrist_gyration_m: float = 0.05
     """Radius of gyration of hand and phone about their centre of mass [E]."""
     wrist_pitch_hz: tuple[float, float] = (3.0, 4.0)
@@ -227,11 +223,8 @@ class Handheld(CarryMode):
     deviation (the sideways turn), drawn per use [E]."""
     wrist_roll_hz: tuple[float, float] = (4.5, 6.5)
     """Range of its natural frequency in rotation about the forearm, drawn per use [E]."""
-    wrist_damping: tuple[float, float] = (0.3, 0.5)
-    """Range of the wrist's damping ratio, drawn per use: holding a phone steady to
-    read it stiffens the forearm's muscles against each other. The ILC traces'
-    phones nod 0.31 rad/s RMS in the 2.6–5 Hz band (median), where a wrist damped
-    at 0.15–0.3 rang at 0.63 [E]."""
+    wrist_damping: tuple[float, float] = (0.15, 0.3)
+    """Range of the wrist's damping ratio, drawn per use [E]."""
     grip_roll_deg: float = 12.0
     """Largest turn of the phone about the forearm's axis in the grip, drawn per use [E]."""
     trunk_coupling: tuple[float, float] = (0.2, 0.4)
@@ -259,10 +252,6 @@ class Handheld(CarryMode):
     yaw_wander_s: float = 0.25
     """Time scale (the smoothing σ) of that turn: it wanders over a second or two,
     slower than the stride [E]."""
-    tilt_wander_deg: float = 2.0
-    """RMS of the hand's slow nod and rock (about the phone's x and y axes) on the
-    same time scale, as its slow turn [E]: below 1.3 Hz the ILC traces' phones rock
-    0.08 rad/s RMS (median) about their long axis, where the gait alone rocked them 0.03."""
 
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, rate = body.height_m, body.rate_hz
@@ -357,11 +346,6 @@ class Handheld(CarryMode):
         wander = math.radians(self.yaw_wander_deg) * limbs.slow_noise(
             n, rate, rng, self.yaw_wander_s
         )
-        if self.tilt_wander_deg > 0:
-            # Drawn last, so the draws before it stay what they were.
-            drift = math.radians(self.tilt_wander_deg)
-            nod = nod + drift * limbs.slow_noise(n, rate, rng, self.yaw_wander_s)
-            rock = rock + drift * limbs.slow_noise(n, rate, rng, self.yaw_wander_s)
         rot = limbs.compose(
             limbs.body_frame(yaw + misalign + wander + turn),
             limbs.about("z", -np.pi / 2),

@@ -180,7 +180,6 @@ def test_flat_phone_facing_north_has_the_identity_quaternion(l_plan):
         "tremor_deg": 0.0,
         "grip_roll_deg": 0.0,
         "yaw_wander_deg": 0.0,
-        "tilt_wander_deg": 0.0,
     }
     phone = carry(body, [(0.0, "handheld", params)], np.random.default_rng(0))
     np.testing.assert_allclose(phone.quat[0], [1.0, 0.0, 0.0, 0.0], atol=1e-9)

@@ -54,10 +54,7 @@ INSIDE = {
         "share_2nd",
         "share_stride",
         "gyro_rms_1",
-        # gyro_rms_2: the flat-held phone's middle axis is its turn, which the real
-        # logs' surveyors, turning often, raise; the bundled office routes turn less
-        # (0.21-0.23 rad/s against >= 0.25). It was inside only while the simulated
-        # phone rocked twice as much as the real ones do.
+        "gyro_rms_2",
         "gyro_rms_3",
         "heading_jitter",
         "gyro_drift",
@@ -94,7 +91,7 @@ INSIDE_ENVIRONMENT: dict[str, set[str]] = {
     RADIO_MODE: {
         "rss_mean",
         # rss_p90 sits on the real range's edge on the generated basement (-53.0 dBm
-        # now, -52.9 with the hand of v3; real -80 to -53): not pinned.
+        # before the held hand's change of place, -52.9 after; real -80 to -53).
         "aps_per_scan",
         "scan_interval",
         "static_std",
