@@ -18,10 +18,9 @@ The packaged checkpoint
 
 ``estimators/nn/checkpoints/learned_io/`` (``weights.pt`` and ``model.json``,
 330 kB) was made by these commands, run from the repository's root with the
-real-data folder at ``../shared/realdata`` (2.5–4 min on 2 cores: 5 s for
-the plans, 81–151 s for the data, 60–72 s for training, the longer times with
-another job running; the data set and training commands, per-epoch losses and
-versions are in its ``model.json``)::
+real-data folder at ``../shared/realdata`` (about 2.5 min on 2 cores: 5 s for
+the plans, 81 s for the data, 60 s for training; the data set and training
+commands, per-epoch losses and versions are in its ``model.json``)::
 
     for s in 1 2 3; do indoorsim import-plan \
         ../shared/realdata/ms-indoor-location-2020/site1/F1/geojson_map.json \
@@ -38,8 +37,8 @@ split — so the real traces' building is seen in simulation, their sensor data
 never. No bundled scenario is used, so the leaderboard's buildings are unseen.
 Six phone models, four carrying modes with changes, the IMU at 50 Hz in 2 s
 windows every 1 s: 26 814 windows, 24 sites to train on, 3 to validate, 3 to
-test. Final losses (m²/s², mean of both velocity components): train 0.0270,
-val 0.0586, test 0.0213 — an RMS velocity error of about 0.14 m/s per axis on
+test. Final losses (m²/s², mean of both velocity components): train 0.0267,
+val 0.0591, test 0.0203 — an RMS velocity error of about 0.14 m/s per axis on
 the test buildings. Training is deterministic on CPU: the commands give the
 same ``weights.pt`` bytes for the same ``--threads`` and ``--workers`` (add
 ``--overwrite`` to retrain in place).
@@ -104,6 +103,8 @@ __all__ = ["LearnedIO"]
 
 # Rates closer than this (relative) count as equal: the samples go in as they are.
 _SAME_RATE = 1e-6
+# A longer interval between gyro samples is a gap the gyro's turn is not known across, s.
+_GYRO_GAP_S = 0.25
 
 
 @register("learned-io")
@@ -125,10 +126,12 @@ class LearnedIO:
             vector as it is. A number holds it on the integrated gyro instead,
             pulled toward the rotation vector's with this time constant (s):
             indoors the rotation vector's yaw follows the building's magnetic
-            disturbances, which the gyro does not feel, while the slow pull
-            still bounds the gyro's drift. RoNIN feeds its network from the
-            magnetometer-free game rotation vector for the same reason; real
-            logs often lack that stream, so the gyro is integrated here.
+            disturbances and the phone's own residual hard iron, which the gyro
+            does not feel, while the slow pull bounds the gyro's drift to a lag
+            of about bias·τ (9° for a 0.3 °/s bias at 30 s). RoNIN feeds its
+            network from the magnetometer-free game rotation vector for the same
+            reason; real logs often lack that stream, so the gyro is integrated
+            here.
     """
 
     name: ClassVar[str] = "learned-io"
@@ -304,11 +307,22 @@ class LearnedIO:
         gyro = obs["gyro"][valid]
         if self._carry is None:
             self._carry = (float(t[0]), gyro[0], fused[0], 0.0)
-        t0, w0, q0, excess0 = self._carry
-        carried = gyro_attitude(q0, t0, w0, t, gyro)
-        excess = excess0 + wrap_angle(
-            twist_yaw(quaternion.multiply(fused, quaternion.conjugate(carried)))
-        )
+        t0, w0, q0, base = self._carry
+        # Across a gap (dropped samples, or windows without an attitude) the gyro's turn
+        # is unknown: the carry restarts from the rotation vector after it, the excess
+        # held at its value before.
+        after_gap = np.flatnonzero(np.diff(np.r_[t0, t]) > _GYRO_GAP_S)
+        excess = np.empty(len(t))
+        start = 0
+        for end in [*after_gap.tolist(), len(t)]:
+            if end > start:
+                part = slice(start, end)
+                carried = gyro_attitude(q0, t0, w0, t[part], gyro[part])
+                turn = quaternion.multiply(fused[part], quaternion.conjugate(carried))
+                excess[part] = base + wrap_angle(twist_yaw(turn))
+                base = float(excess[end - 1])
+            if end < len(t):
+                t0, w0, q0, start = float(t[end]), gyro[end], fused[end], end
         self._carry = (float(t[-1]), gyro[-1], fused[-1], float(excess[-1]))
         mean = float(excess.mean())
         if self._magnetic_offset is None:

@@ -346,8 +346,10 @@ def as_real_log(rec: Recording, waypoints: NDArray[np.float64], lead_s: float = 
     at = passing_times(truth, waypoints)
     t = truth.index.to_numpy(dtype=float)
     marked = np.maximum(t[at] - lead_s, t[0])
-    # Marks are taken one after another: a later one never precedes an earlier one.
-    marked = np.maximum.accumulate(marked)
+    # Marks are taken one after another: each strictly after the one before (a
+    # scorer reads one time as one place).
+    for i in range(1, len(marked)):
+        marked[i] = max(marked[i], np.nextafter(marked[i - 1], np.inf))
     marks = pd.DataFrame(
         np.asarray(waypoints, dtype=float),
         columns=["x", "y"],
@@ -362,7 +364,8 @@ def as_real_log(rec: Recording, waypoints: NDArray[np.float64], lead_s: float = 
 CORNER_DEG = 45.0
 """A waypoint where the route turns by at least this much is a corner (:func:`waypoint_lead`)."""
 LEAD_WINDOW_S = 3.0
-"""How far either side of a corner's mark its turn is looked for, s."""
+"""How far either side of a corner's mark its turn is looked for first, s."""
+_LEAD_ITERATIONS = 20
 
 
 def waypoint_lead(rec: Recording) -> NDArray[np.float64]:
@@ -370,11 +373,14 @@ def waypoint_lead(rec: Recording) -> NDArray[np.float64]:
 
     At each waypoint where the waypoints' polyline turns by :data:`CORNER_DEG` or
     more, the turn is found in the gyro: the rate of turn about gravity (the
-    accelerometer's 1 s mean), smoothed over 0.25 s, taken within
-    :data:`LEAD_WINDOW_S` of the mark where it turns the corner's way; its
-    centroid in time is the turn's centre. A corner whose window turns by more
-    than 45° more or less than the polyline (two corners in one window) is
-    skipped. Returns the centre's time less the mark's, one per corner kept.
+    accelerometer's 1 s mean), smoothed over 0.25 s, where it turns the corner's
+    way. Its centroid in time is taken within :data:`LEAD_WINDOW_S` of the mark,
+    then again within half that of the centroid until it settles: a window held
+    on the mark would pull the centroid toward it, the stride's sway of the
+    heading standing in it on both sides of the turn. A corner whose final
+    window turns by more than 45° more or less than the polyline (two corners
+    in one window) is skipped. Returns the centre's time less the mark's, one
+    per corner kept.
     """
     if not {"waypoints", "gyro", "accel"} <= set(rec.streams):
         return np.zeros(0)
@@ -382,32 +388,52 @@ def waypoint_lead(rec: Recording) -> NDArray[np.float64]:
     xy = wp[["x", "y"]].to_numpy(dtype=float)
     marks = wp.index.to_numpy(dtype=float)
     t = rec.gyro.index.to_numpy(dtype=float)
-    if len(xy) < 3 or len(t) < 10:
+    accel = rec.accel
+    if len(xy) < 3 or len(t) < 10 or len(accel) < 2:
         return np.zeros(0)
     rate_hz = 1.0 / float(np.median(np.diff(t)))
-    accel = rec.accel
     t_acc = accel.index.to_numpy(dtype=float)
     up = np.column_stack([np.interp(t, t_acc, accel[c].to_numpy(dtype=float)) for c in "xyz"])
     up = uniform_filter1d(up, max(1, round(rate_hz)), axis=0)
     rate = yaw_rate(rec.gyro[["x", "y", "z"]].to_numpy(dtype=float), up)
     rate = uniform_filter1d(rate, max(1, round(0.25 * rate_hz)))
     legs = np.diff(xy, axis=0)
+    length = np.hypot(legs[:, 0], legs[:, 1])
     heading = np.arctan2(legs[:, 1], legs[:, 0])
     leads = []
     for i in range(1, len(xy) - 1):
+        if min(length[i - 1], length[i]) < 1e-6:
+            continue  # a repeated waypoint has no direction
         turn = float(wrap_angle(heading[i] - heading[i - 1]))
         if abs(turn) < np.radians(CORNER_DEG):
             continue
-        near = (t >= marks[i] - LEAD_WINDOW_S) & (t <= marks[i] + LEAD_WINDOW_S)
-        if near.sum() < 2:
+        centre = _turn_centre(t, rate * np.sign(turn), float(marks[i]), LEAD_WINDOW_S)
+        for _ in range(_LEAD_ITERATIONS):
+            if centre is None:
+                break
+            moved = _turn_centre(t, rate * np.sign(turn), centre, LEAD_WINDOW_S / 2)
+            settled = moved is not None and abs(moved - centre) < 1e-3
+            centre = moved
+            if settled:
+                break
+        if centre is None:
             continue
+        near = np.abs(t - centre) <= LEAD_WINDOW_S / 2
         turned = float(np.trapezoid(rate[near], t[near]))
-        if abs(turned - turn) > np.radians(CORNER_DEG):
-            continue
-        weight = np.clip(rate[near] * np.sign(turn), 0.0, None)
-        if weight.sum() > 0:
-            leads.append(float((t[near] * weight).sum() / weight.sum()) - marks[i])
+        if abs(turned - turn) <= np.radians(CORNER_DEG):
+            leads.append(centre - float(marks[i]))
     return np.asarray(leads)
+
+
+def _turn_centre(
+    t: NDArray[np.float64], rate: NDArray[np.float64], around: float, half: float
+) -> float | None:
+    """Centroid in time of the positive part of ``rate`` within ``half`` of ``around``."""
+    near = np.abs(t - around) <= half
+    weight = np.clip(rate[near], 0.0, None)
+    if near.sum() < 2 or not weight.sum() > 0:
+        return None
+    return float((t[near] * weight).sum() / weight.sum())
 
 
 def _path_ratio(result: WalkResult) -> float:
@@ -507,12 +533,12 @@ class TwinResults:
     signals: pd.DataFrame
     """One row per (trace, data, seed): :func:`walk_signals`."""
     left_out: dict[str, str]
+    """Traces without a twin, and why."""
     lead_s: float = 0.0
     """How long before the walker's turn the twins' waypoints are marked, s: the median of
     :func:`waypoint_lead` over the real traces' corners."""
     corners: int = 0
     """How many real corners that median is over."""
-    """Traces without a twin, and why."""
 
 
 def twin_table(
@@ -654,12 +680,20 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
     ]
     per_trace = results.signals.groupby(["data", "trace"])[list(SIGNALS)].mean()
     apart = []
+    real_iron = per_trace.loc["real", "hard_iron"].notna()
+    sim_iron = per_trace.loc["sim", "hard_iron"].reindex(real_iron.index).notna()
     for key, label in SIGNALS.items():
         # Over the traces measured on both sides (a field's spread needs 40 m, a hard
-        # iron enough turning), so that both medians are of the same walks.
+        # iron enough turning), so that both medians are of the same walks; the field
+        # without the hard iron only where it was taken out on both or on neither.
         real_values = per_trace.loc["real", key]
         sim_values = per_trace.loc["sim", key].reindex(real_values.index)
         both = real_values.notna() & sim_values.notna()
+        if key == "mag_std_iron_free":
+            both &= real_iron == sim_iron
+        if not both.any():
+            lines.append(f"| {label} | n/a | n/a | n/a |")
+            continue
         real = float(real_values[both].median())
         sim = float(sim_values[both].median())
         lines.append(f"| {label} | {real:.3g} | {sim:.3g} | {real / sim:.2f} |")

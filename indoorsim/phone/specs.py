@@ -164,7 +164,10 @@ class MagnetometerSpec:
 
     def __post_init__(self) -> None:
         if self.hard_iron_uT is not None:
-            offset = tuple(float(v) for v in self.hard_iron_uT)
+            try:
+                offset = tuple(float(v) for v in self.hard_iron_uT)
+            except TypeError:
+                offset = ()
             if len(offset) != 3 or not all(math.isfinite(v) for v in offset):
                 raise ValueError(
                     f"MagnetometerSpec.hard_iron_uT must be three finite numbers (x, y, z), "
@@ -394,8 +397,9 @@ class DeviceFileError(ValueError):
 
 
 _FLAGS = frozenset({"on_change", "throttling", "continuous"})
-# Fields that hold a vector, or nothing.
+"""The boolean fields of the sensor specs."""
 _VECTORS = frozenset({"hard_iron_uT"})
+"""The fields that hold a vector, or None (every other field is a number)."""
 
 
 def _figure(key: str, value: Any) -> Any:
@@ -410,8 +414,6 @@ def _figure(key: str, value: Any) -> Any:
         return tuple(float(v) for v in value)
     return float(value)
 
-
-"""The boolean fields of the sensor specs (every other field is a number)."""
 
 _SPECS = {
     "accel": InertialSpec,

@@ -19,8 +19,8 @@ simulated one, so a simulated recording with known parameters checks the fit:
   plus whatever drift has built up); the profile's ``turn_on_bias_sigma`` is
   its RMS over the axes, the one draw this recording shows.
 * **Magnetometer's residual hard iron**: the offset Android's online
-  calibration left, fitted from the walk's own field and fused tilt where the
-  phone turns far enough
+  calibration left, fitted from the walk's own magnetometer where the phone
+  turns far enough at one tilt
   (:func:`~indoorsim.benchmark.realism.magnetic.hard_iron_residual`); its
   part along the vertical cannot be told while the phone's tilt stays put and
   is 0. The profile takes it as this unit's fixed offset (``mag.hard_iron_uT``).
@@ -332,8 +332,8 @@ def calibrate(
     iron = hard_iron_residual(rec)
     if iron is None:
         not_measured["mag hard iron"] = (
-            f"not shown without turns of {HARD_IRON_MIN_ARC_DEG:.0f}° or more under a "
-            f"fused attitude: {base_profile.name}'s spread"
+            f"not shown without turns of {HARD_IRON_MIN_ARC_DEG:.0f}° or more at one "
+            f"tilt: {base_profile.name}'s spread"
         )
     else:
         data["mag"]["hard_iron_uT"] = [round(float(v), 2) for v in iron.offset_uT]

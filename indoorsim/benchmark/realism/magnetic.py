@@ -276,9 +276,13 @@ def hard_iron_residual(rec: Recording) -> HardIronFit | None:
     if spreads[1] < HARD_IRON_MIN_FLATNESS * spreads[2]:
         return None
     if "accel" in rec.streams and len(rec.accel):
-        gravity = rec.accel[["x", "y", "z"]].to_numpy(dtype=float).mean(axis=0)
-        tilt = abs(float(gravity @ up)) / max(float(np.linalg.norm(gravity)), 1e-9)
-        if tilt < math.cos(math.radians(HARD_IRON_MAX_PLANE_TILT_DEG)):
+        accel = rec.accel[["x", "y", "z"]].to_numpy(dtype=float)
+        accel = accel[np.isfinite(accel).all(axis=1)]
+        gravity = accel.mean(axis=0) if len(accel) else np.zeros(3)
+        norm = float(np.linalg.norm(gravity))
+        if not norm > 0:
+            return None  # the plane cannot be checked against the vertical
+        if abs(float(gravity @ up)) / norm < math.cos(math.radians(HARD_IRON_MAX_PLANE_TILT_DEG)):
             return None
     u, v = (m - mean) @ e1, (m - mean) @ e2
     design = np.column_stack([u, v, np.ones_like(u)])

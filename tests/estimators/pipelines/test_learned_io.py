@@ -419,3 +419,13 @@ def test_gyro_drift_is_pulled_back_with_the_time_constant():
 def test_magnetic_time_constant_must_be_positive():
     with pytest.raises(ValueError, match="magnetic_tau_s"):
         LearnedIO(magnetic_tau_s=0.0)
+
+
+def test_a_turn_inside_a_gap_is_not_taken_for_a_magnetic_pull():
+    """The phone turns 90° while its samples are missing for 2 s: after the gap the gyro's
+    carry restarts from the rotation vector, so no disturbance appears."""
+    t = np.r_[np.arange(0.0, 4.0, 0.02), np.arange(6.0, 10.0, 0.02)]
+    yaw = np.where(t < 5.0, 0.0, np.pi / 2)
+    rotation = quaternion.multiply(_yaw(yaw), _TILT)
+    out = _disturbances(_held(1e9), t, rotation, np.zeros((len(t), 3)))
+    np.testing.assert_allclose(out, 0.0, atol=1e-9)
