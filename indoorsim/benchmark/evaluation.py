@@ -571,7 +571,7 @@ estimators that use magnetic north take its offset from the start heading.
 
 ``learned-io`` also holds its heading on the gyro (``magnetic_tau_s``): on the
 simulated twins of the real traces, whose phones carry the residual hard iron
-``indoorsim calibrate`` finds in them, that took its error from 1.55 to 1.23 m
+``indoorsim calibrate`` finds in them, that took its error from 1.71 to 1.40 m
 (``leaderboards/sim_to_real.md``). The choice is made on the twins, which are
 simulation; on the bundled sites' phones, with their smaller offsets, it helps
 in some and costs in others, so it is not the default."""
