@@ -104,6 +104,10 @@ def test_a_twin_is_scored_as_a_real_log_at_its_waypoints():
     early = as_real_log(rec, np.asarray(route.waypoints, dtype=float), lead_s=0.8)
     np.testing.assert_allclose(early.waypoints.index.to_numpy()[1:], passing[1:] - 0.8, atol=1e-12)
     assert early.waypoints.index[0] == max(passing[0] - 0.8, truth.index[0])
+    # Marked before the walk began, every mark is held at its start, still in order.
+    clamped = as_real_log(rec, np.asarray(route.waypoints, dtype=float), lead_s=1e3)
+    times = clamped.waypoints.index.to_numpy()
+    assert times[0] == truth.index[0] and np.all(np.diff(times) > 0)
 
 
 @pytest.mark.parametrize("sway", [0.0, 0.3])

@@ -429,3 +429,39 @@ def test_a_turn_inside_a_gap_is_not_taken_for_a_magnetic_pull():
     rotation = quaternion.multiply(_yaw(yaw), _TILT)
     out = _disturbances(_held(1e9), t, rotation, np.zeros((len(t), 3)))
     np.testing.assert_allclose(out, 0.0, atol=1e-9)
+
+
+class _MeanPush(torch.nn.Module):
+    """A stand-in network that turns with its input: the window's mean horizontal
+    specific force, as a velocity."""
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return x[:, 0:2, :].mean(dim=-1)
+
+
+@pytest.mark.parametrize(("tau_s", "gyro_present"), [(None, True), (1e9, True), (1e9, False)])
+def test_the_held_heading_ignores_a_pull_on_the_rotation_vector(tau_s, gyro_present):
+    """A still, level phone pushed toward its top; its rotation vector's yaw is pulled
+    15° for 3 s while its gyro reads nothing. Following the rotation vector, the
+    heading turns with the pull; held on the gyro it does not (unless there is no
+    gyro to hold it with)."""
+    est = LearnedIO(magnetic_tau_s=tau_s)
+    est._net = Checkpoint(
+        model=_MeanPush(), meta={"frame": "world", "imu_rate_hz": 50.0, "window_samples": 50}
+    )
+    est.reset(StartInfo(position=np.zeros(2), heading=0.0, t0=0.0))
+    t = np.arange(500) / 50.0
+    pull = np.where((t >= 4.0) & (t < 7.0), math.radians(15.0), 0.0)
+    rotation = _yaw(pull)
+    push = np.tile([0.0, 1.0, 9.81], (500, 1))
+    headings = []
+    for k in range(0, 500, 50):
+        s = slice(k, k + 50)
+        obs = _obs(t[s], push[s], np.zeros((50, 3)), rotation[s])
+        obs["present"][PRESENT_ORDER.index("gyro")] = int(gyro_present)
+        est.act(obs)
+        headings.append(est.heading)
+    turned = np.degrees(np.array(headings) - headings[0])
+    held = tau_s is not None and gyro_present
+    np.testing.assert_allclose(turned[[4, 5, 6]], 0.0 if held else 15.0, atol=1e-4)
+    np.testing.assert_allclose(turned[[2, 3, 7, 8, 9]], 0.0, atol=1e-4)
