@@ -105,7 +105,8 @@ def add_calibrate(subparsers: Subparsers) -> None:
         "calibrate",
         help="fit a device profile and a walker to a recording (a digital twin)",
         description="Fit a device profile (rates, timestamp jitter and gaps, white noise "
-        "from the still parts, gyro bias, light reporting, WiFi scan interval and "
+        "from the still parts, gyro bias, the magnetometer's residual hard iron where "
+        "the walk turns far enough, light reporting, WiFi scan interval and "
         "threshold) and walker parameters (step rate, speed and step length from the "
         "waypoints, height, standing time) to a real or simulated recording. Writes YAML "
         "with device: and walker: sections, which --device FILE and --walker FILE of "
