@@ -489,6 +489,7 @@ SIGNALS = {
     "sway_stride": "sideways acceleration at the stride rate (m/s²)",
     "bob_step": "vertical acceleration at the step rate (m/s²)",
     "yaw_stride": "rate of turn at the stride rate (rad/s)",
+    "sway_step": "sideways acceleration at the step rate (m/s²)",
     "mag_std": "‖m‖ std along the path (µT)",
     "mag_std_long": "‖m‖ std at wavelengths over 10 m (µT)",
     "hard_iron": "the magnetometer's residual hard iron, where the turns show it (µT)",

@@ -33,9 +33,10 @@ The keys of the returned dict (NaN where a stream is missing or too short):
 ``gyro_drift``      drift of the gyro heading ∫ω·ĝ dt against the fused attitude's
                     heading, degrees per stride (signed; :func:`gyro_heading_drift`)
 ``surge_step``      a phone held top-forward: forward acceleration at the step rate,
-``sway_stride``     sideways at the stride rate, vertical at the step rate (m/s²)
-``bob_step``        and rate of turn at the stride rate (rad/s), levelled by its own
-``yaw_stride``      fused attitude (:func:`held_phone_motion`)
+``sway_stride``     sideways at the stride rate, vertical at the step rate (m/s²),
+``bob_step``        rate of turn at the stride rate (rad/s) and sideways
+``yaw_stride``      acceleration at the step rate (m/s²), levelled by its own
+``sway_step``       fused attitude (:func:`held_phone_motion`)
 ==================  ==========================================================
 """
 
@@ -99,6 +100,7 @@ MOTION_KEYS = (
     "sway_stride",
     "bob_step",
     "yaw_stride",
+    "sway_step",
 )
 
 _SEGMENT_S = 8.0  # Welch segment: 0.125 Hz bins, several segments per real walk
@@ -298,7 +300,7 @@ def motion_statistics(rec: Recording) -> dict[str, float]:
     return out
 
 
-HELD_KEYS = MOTION_KEYS[-4:]
+HELD_KEYS = MOTION_KEYS[-5:]
 """Keys of :func:`held_phone_motion` (the last of :data:`MOTION_KEYS`)."""
 HELD_MODE = "handheld"
 """The carrying mode whose phone is held top-forward: the only one they are judged in."""
@@ -321,6 +323,7 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
     ``sway_stride``  sideways acceleration at the stride rate (half the step rate)
     ``bob_step``     vertical acceleration at the step rate
     ``yaw_stride``   rate of turn about the vertical at the stride rate
+    ``sway_step``    sideways acceleration at the step rate
 
     NaN without a rotation vector or gyroscope, or without a whole window. ``sig``:
     ``rec``'s :func:`walking_signals`, when already at hand.
@@ -358,7 +361,7 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
             step_hz = freqs[band][np.argmax(np.abs(np.fft.rfft(w[:, 2], 8 * n))[band])]
             at_step = gain * np.abs(np.exp(-2j * np.pi * step_hz * t) @ w)
             at_stride = gain * np.abs(np.exp(-1j * np.pi * step_hz * t) @ w)
-            rows.append([at_step[0], at_stride[1], at_step[2], at_stride[3]])
+            rows.append([at_step[0], at_stride[1], at_step[2], at_stride[3], at_step[1]])
     if rows:
         out.update(zip(HELD_KEYS, np.median(rows, axis=0).tolist(), strict=True))
     return out

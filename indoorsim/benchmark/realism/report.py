@@ -93,6 +93,7 @@ COMPARED: dict[str, str] = {
     "sway_stride": "held top-forward: sideways acceleration at the stride rate (m/s²)",
     "bob_step": "held top-forward: vertical acceleration at the step rate (m/s²)",
     "yaw_stride": "held top-forward: rate of turn at the stride rate (rad/s)",
+    "sway_step": "held top-forward: sideways acceleration at the step rate (m/s²)",
 }
 """The statistics judged, with their labels (``walking_s`` is shown, not judged)."""
 

@@ -71,11 +71,17 @@ def test_a_held_phones_surge_sway_bob_and_turn_are_read_in_its_own_walking_frame
     t = rec.accel.index.to_numpy()
     step, stride = 2 * np.pi * 1.75 * t, np.pi * 1.75 * t
     rec.accel["y"] = 0.5 * np.sin(step + 0.7)
-    rec.accel["x"] = 0.3 * np.sin(stride)
+    rec.accel["x"] = 0.3 * np.sin(stride) + 0.25 * np.cos(step)
     rec.gyro["z"] = 0.1 + 0.2 * np.cos(stride)
     held = held_phone_motion(rec)
     assert set(held) == set(HELD_KEYS)
-    expected = {"surge_step": 0.5, "sway_stride": 0.3, "bob_step": 2.0, "yaw_stride": 0.2}
+    expected = {
+        "surge_step": 0.5,
+        "sway_stride": 0.3,
+        "bob_step": 2.0,
+        "yaw_stride": 0.2,
+        "sway_step": 0.25,
+    }
     for key, value in expected.items():
         assert held[key] == pytest.approx(value, rel=0.02), key
     # Off the analysis grid, and with a sway at the step rate too, the stride rate's
