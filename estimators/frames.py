@@ -25,7 +25,6 @@ __all__ = [
     "gyro_attitude",
     "heading_from_rotation",
     "to_world",
-    "twist_yaw",
     "wrap_angle",
     "yaw_rate",
 ]
@@ -100,14 +99,6 @@ def yaw_rate(gyro: ArrayLike, gravity: ArrayLike) -> NDArray[np.float64]:
     norm = np.linalg.norm(g, axis=-1)
     dot = np.einsum("...i,...i->...", w, g)
     return np.where(norm > _TINY, dot / np.where(norm > _TINY, norm, 1.0), 0.0)
-
-
-def twist_yaw(rotation: ArrayLike) -> NDArray[np.float64]:
-    """Yaw of world←phone quaternions (N, 4) as their twist about the world's vertical,
-    2·atan2(q_z, q_w): a turn by α about the vertical, Rz(α) ⊗ q, adds exactly α
-    (its (w, z) pair turns by α/2), whatever the phone's tilt."""
-    q = np.asarray(rotation, dtype=float)
-    return 2.0 * np.arctan2(q[..., 3], q[..., 0])
 
 
 def gyro_attitude(

@@ -93,7 +93,7 @@ from indoorsim.estimators.base import (
     present_streams,
     register,
 )
-from indoorsim.estimators.frames import gyro_attitude, to_world, twist_yaw, wrap_angle
+from indoorsim.estimators.frames import gyro_attitude, to_world, wrap_angle
 from indoorsim.estimators.nn.inertial import Checkpoint, load_checkpoint
 from indoorsim.estimators.samples import SampleGuard
 from indoorsim.io.recording import Recording
@@ -287,8 +287,7 @@ class LearnedIO:
         rel = quaternion.multiply(
             obs["rotation"][valid], quaternion.conjugate(obs["game_rotation"][valid])
         )
-        yaw = 2.0 * np.arctan2(rel[:, 3], rel[:, 0])
-        return float(np.angle(np.exp(1j * yaw).mean()))
+        return float(np.angle(np.exp(1j * quaternion.twist_yaw(rel)).mean()))
 
     def _magnetic_disturbance(self, obs: Observation, valid: NDArray[np.bool_]) -> float:
         """How far the rotation vector's yaw sits from the gyro-held heading over this
@@ -319,7 +318,7 @@ class LearnedIO:
                 part = slice(start, end)
                 carried = gyro_attitude(q0, t0, w0, t[part], gyro[part])
                 turn = quaternion.multiply(fused[part], quaternion.conjugate(carried))
-                excess[part] = base + wrap_angle(twist_yaw(turn))
+                excess[part] = base + wrap_angle(quaternion.twist_yaw(turn))
                 base = float(excess[end - 1])
             if end < len(t):
                 t0, w0, q0, start = float(t[end]), gyro[end], fused[end], end

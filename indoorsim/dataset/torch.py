@@ -234,8 +234,7 @@ class _Reader:
             q = c["game_rotation"].astype(np.float64)
             # Yaw from the game frame to the building frame, averaged over the window.
             rel = quat_ops.multiply(c["quat"].astype(np.float64), quat_ops.conjugate(q))
-            yaw = 2.0 * np.arctan2(rel[..., 3], rel[..., 0])
-            offset = np.angle(np.exp(1j * yaw).mean(axis=1))
+            offset = np.angle(np.exp(1j * quat_ops.twist_yaw(rel)).mean(axis=1))
             vel = _turn(c["body_vel"].astype(np.float64), -offset)
             vel_samples = _turn(c["vel"][..., :2].astype(np.float64), -offset[:, None])
         else:

@@ -61,6 +61,14 @@ def conjugate(q: ArrayLike) -> NDArray[np.float64]:
     return out
 
 
+def twist_yaw(q: ArrayLike) -> NDArray[np.float64]:
+    """Yaw of world←phone quaternions (..., 4) as their twist about the world's vertical,
+    2·atan2(q_z, q_w): a turn by α about the vertical, Rz(α) ⊗ q, adds exactly α
+    (its (w, z) pair turns by α/2), whatever the phone's tilt."""
+    q = np.asarray(q, dtype=float)
+    return 2.0 * np.arctan2(q[..., 3], q[..., 0])
+
+
 def normalise(q: ArrayLike, *, min_norm: float = 0.0) -> NDArray[np.float64]:
     """Quaternions q (…, 4) divided by their norms; those of norm ≤ ``min_norm``, or NaN, become
     the identity (a logged or held quaternion drifts from unit norm; a missing one is zero).
