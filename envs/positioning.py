@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v3`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v4`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -215,11 +215,16 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       trunk's surge and sway, it follows a third of the trunk's yaw and wanders
       slowly in yaw, it bobs with the elbow at the holding side): a seed gives
       other observations and errors. Spaces, rewards and arguments are unchanged.
+    - v4: the held phone's walks changed again (the abducted upper arm twists about its
+      axis under every jolt, moving the hand sideways; the phone rocks less about its
+      long axis, follows part of the trunk's lean, and its wrist is damped harder and
+      stiffer sideways): a seed gives other observations and errors. Spaces, rewards
+      and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v3")
+        >>> env = gym.make("indoorsim/MinimalRoom-v4")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)

@@ -6,9 +6,11 @@ schedule of them (DESIGN §5):
 * ``handheld`` — in front of the chest, screen up and pitched toward the eyes
   (``pitch_deg``: 0 is flat, as in Han2023's experiments; ~30° is texting),
   y-axis forward; the arm holds the hand in place against the trunk's surge and
-  sway (it bobs with it), the forearm swings at the elbow and the hand nods and
-  rocks the phone at the wrist, each joint a damped spring driven by the
-  trunk's motion; the hand turns slowly in yaw, with a faint 8–12 Hz tremor.
+  sway (it bobs with it), the forearm swings at the elbow, the abducted upper
+  arm twists about its axis (moving the hand sideways with every jolt), and the
+  hand nods, turns and rocks the phone at the wrist, each joint a damped spring
+  driven by the trunk's motion; the hand turns slowly in yaw, with a faint
+  8–12 Hz tremor.
 * ``calling`` — at the ear, screen toward the head, long axis tilted 30–60°
   from vertical, x-axis along ±forward; the head rides on the neck (a damped
   spring) and nods and rocks on it; it shades the light sensor.
@@ -167,9 +169,10 @@ class Handheld(CarryMode):
     vertically the trunk's bounce and heel strikes, but fore-aft and sideways it
     passes the trunk's surge and sway within each step through a soft damped spring
     (:func:`~.limbs.transmitted`), and it follows only part of the trunk's yaw.
-    Two joints then carry the phone, each held by muscle like a damped spring
-    (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, and the hand, with the phone,
-    pivots at the wrist. The elbow's acceleration across the forearm swings
+    Three joints then carry the phone, each held by muscle like a damped spring
+    (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, the upper arm,
+    held a little out from the side, twists about its own axis, and the hand, with
+    the phone, pivots at the wrist. The elbow's acceleration across the forearm swings
     the forearm (stiff, 4–6 Hz: the phone's acceleration is the trunk's passed
     through it, harmonics and all); the hand's acceleration acts on the phone's
     offset from the wrist and nods it (pitch) and rocks it (roll), softly —
@@ -195,8 +198,10 @@ class Handheld(CarryMode):
     (≈ 0 ± 10°)."""
     hand: Literal["right", "left"] = "right"
     """Holding hand: the phone sits slightly to that side."""
-    tremor_deg: float = 0.03
-    """RMS of the hand's 8–12 Hz angular tremor [E]."""
+    tremor_deg: float = 0.05
+    """RMS of the hand's 8–12 Hz angular tremor [E]: the ILC traces' held phones turn
+    about their x and y axes at 0.04 rad/s between 10 and 12 Hz (median), where
+    0.03° gave 0.03."""
     tremor_mm: float = 0.015
     """RMS of the hand's 8–12 Hz positional tremor (≈ 0.06 m/s² RMS) [E]."""
     forearm_m: float = 0.3
@@ -213,26 +218,37 @@ class Handheld(CarryMode):
     """Distance from the wrist to the centre of mass of hand and phone, along the hand [E]."""
     palm_height_m: float = 0.02
     """Height of that centre of mass above the forearm's axis (the phone lies on the palm) [E]."""
-    thumb_offset_m: float = 0.03
+    thumb_offset_m: float = 0.015
     """Its offset beside the forearm's axis, toward the thumb: a phone held in one
-    hand reaches past the thumb, toward the body's midline [E]."""
+    hand reaches a little past the thumb, toward the body's midline [E]. The ILC
+    traces' held phones roll about their long axis at 0.1 rad/s in each band from 1.3
+    to 8 Hz; a 3 cm offset rocked their twins 2.5–3 times harder at 1.3–6 Hz, 1.5 cm
+    rocks them as the real ones."""
     wrist_gyration_m: float = 0.05
     """Radius of gyration of hand and phone about their centre of mass [E]."""
     wrist_pitch_hz: tuple[float, float] = (3.0, 4.0)
-    """Range of the wrist's natural frequency in flexion (the nod) and in radial-ulnar
-    deviation (the sideways turn), drawn per use [E]."""
+    """Range of the wrist's natural frequency in flexion (the nod), drawn per use [E]."""
+    wrist_turn_hz: tuple[float, float] = (4.5, 6.0)
+    """Range of its natural frequency in radial-ulnar deviation (the sideways turn),
+    drawn per use: the wrist is stiffer that way than in flexion, about 1.5–2 times
+    [E]; a turn as soft as the nod, under the sideways jolts the twisting arm passes
+    on, rang at 3–4 Hz three times harder than real held phones turn there."""
     wrist_roll_hz: tuple[float, float] = (4.5, 6.5)
     """Range of its natural frequency in rotation about the forearm, drawn per use [E]."""
-    wrist_damping: tuple[float, float] = (0.15, 0.3)
-    """Range of the wrist's damping ratio, drawn per use [E]."""
+    wrist_damping: tuple[float, float] = (0.3, 0.5)
+    """Range of the wrist's damping ratio, drawn per use [E]. The ILC traces' held
+    phones nod at twice the step rate (2.5–4 Hz) at 0.31 rad/s (median); a wrist
+    damped at 0.15–0.3 rang there at 0.7."""
     grip_roll_deg: float = 12.0
     """Largest turn of the phone about the forearm's axis in the grip, drawn per use [E]."""
     trunk_coupling: tuple[float, float] = (0.2, 0.4)
-    """Range of the fraction of the trunk's yaw oscillation the phone follows, drawn
-    per use. A phone being read is kept before the eyes, and the head is held
-    steady in yaw while the trunk turns under it: the 16 ILC traces' flat-held
-    phones turn at 0.17 rad/s (median) at the stride rate, a third of what
-    following 0.8 of the trunk gave (0.53) [E]."""
+    """Range of the fraction of the trunk's yaw oscillation, and of its sideways
+    lean, the phone follows, drawn per use (the ILC traces' held phones roll
+    0.07 rad/s at 0.5–1.3 Hz, a quarter of the trunk's lean). A phone being read
+    is kept before the eyes, and the head is held steady in yaw while the trunk
+    turns under it: the 16 ILC traces' flat-held phones turn at 0.17 rad/s
+    (median) at the stride rate, a third of what following 0.8 of the trunk gave
+    (0.53) [E]."""
     arm_forward_hz: tuple[float, float] = (0.6, 0.9)
     """Range of the natural frequency at which the arm holds the hand in place, fore
     and aft, against the trunk's motion within each step, drawn per use. The hand
@@ -252,6 +268,17 @@ class Handheld(CarryMode):
     yaw_wander_s: float = 0.25
     """Time scale (the smoothing σ) of that turn: it wanders over a second or two,
     slower than the stride [E]."""
+    elbow_out_deg: tuple[float, float] = (5.0, 20.0)
+    """Range of the upper arm's abduction, drawn per use: the elbow is held a little
+    out from the side, so the upper arm hangs from the shoulder down and outward [E]."""
+    twist_hz: tuple[float, float] = (4.0, 6.0)
+    """Range of the natural frequency at which the shoulder's rotators hold the upper
+    arm against twisting about its own axis (humeral rotation), drawn per use:
+    forearm, hand and phone (≈ 1.6 kg, ≈ 0.07 kg·m² about that axis) on a rotational
+    stiffness of 45–100 N·m/rad [E]. At 2.5–4.5 Hz the twins of the ILC traces moved
+    sideways at the step rate twice as much as the real phones (0.55 against 0.25 m/s²)."""
+    twist_damping: tuple[float, float] = (0.2, 0.4)
+    """Range of that twist's damping ratio, drawn per use [E]."""
 
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, rate = body.height_m, body.rate_hz
@@ -309,6 +336,24 @@ class Handheld(CarryMode):
         )
         lever = np.cos(swing)[:, None] * along + np.sin(swing)[:, None] * across
         pos = elbow + limbs.apply(frame, self.forearm_m * lever)
+        # The upper arm hangs down and out from the shoulder, so the forearm and hand
+        # twist about it (humeral rotation) under the elbow's acceleration across
+        # them: the hand moves across the forearm, mostly sideways, and the phone
+        # turns about the upper arm. As the arm is abducted, the twist's direction
+        # leans out of the horizontal, and every vertical jolt drives it too: real
+        # held phones move sideways at about a third of their vertical jolts above
+        # 3 Hz, and at the step rate at 0.04–0.1 of the bounce, in step with it.
+        out = math.radians(rng.uniform(*self.elbow_out_deg))
+        upper_arm = np.array([0.0, side * math.sin(out), -math.cos(out)])
+        across_arm = np.cross(upper_arm, self.forearm_m * along)  # hand motion per radian
+        elbow_acc = np.column_stack([horiz, acc[:, 2]])
+        twist = limbs.oscillator(
+            -(elbow_acc @ across_arm) / (across_arm @ across_arm),
+            rng.uniform(*self.twist_hz),
+            rng.uniform(*self.twist_damping),
+            rate,
+        )
+        pos += limbs.apply(frame, twist[:, None] * across_arm)
         # The hand's acceleration on its offset from the wrist: angular drive a·d/(d² + ρ²).
         hand_acc = limbs.acceleration(pos, body.t)
         hand_horiz = limbs.to_body(hand_acc, yaw)
@@ -330,7 +375,7 @@ class Handheld(CarryMode):
         # mass's offsets from the axis: the vertical acceleration on the offset toward
         # the thumb, the sideways one on the height above the palm.
         turn = limbs.oscillator(
-            -gain * hand_horiz[:, 1], rng.uniform(*self.wrist_pitch_hz), damping, rate
+            -gain * hand_horiz[:, 1], rng.uniform(*self.wrist_turn_hz), damping, rate
         )
         thumb, palm = -side * self.thumb_offset_m, self.palm_height_m
         rock = limbs.oscillator(
@@ -347,7 +392,10 @@ class Handheld(CarryMode):
             n, rate, rng, self.yaw_wander_s
         )
         rot = limbs.compose(
-            limbs.body_frame(yaw + misalign + wander + turn),
+            frame,
+            limbs.about("x", coupling * body.roll),
+            limbs.from_rotvec(twist[:, None] * upper_arm),
+            limbs.body_frame(misalign + wander + turn),
             limbs.about("z", -np.pi / 2),
             limbs.about("x", math.radians(self.pitch_deg) + swing + nod),
             limbs.about("y", grip + rock),

@@ -86,7 +86,11 @@ def test_a_phone_at_rest_gives_back_its_noise_bias_and_timing():
 
 @pytest.fixture(scope="module")
 def walked() -> tuple[Recording, WalkerParams]:
-    walker = WalkerParams(height_m=1.85, speed_mps=1.1)
+    # Standing 8 s first, as a surveyor waits for the phone to settle: the hand's
+    # tremor and slow wander leave a few seconds that read as still, enough for the
+    # magnetometer's noise floor (3 s of standing left 0–2 s, and noise readings
+    # 25 % off on some seeds).
+    walker = WalkerParams(height_m=1.85, speed_mps=1.1, stand_start_s=8.0)
     rec = simulate(
         load_site("han2023_corridor"),
         route="trajectory",
@@ -152,7 +156,14 @@ def test_a_walk_with_turns_gives_back_its_magnetometers_residual_hard_iron(tmp_p
         site, route="main", mode=[(0.0, "handheld", {"pitch_deg": 0.0})], device=phone, seed=3
     )
     cal = calibrate(rec, name="twin")
-    np.testing.assert_allclose(cal.device.mag.hard_iron_uT, offset, atol=1.0)
+    # Its part along the phone's vertical cannot be told from the Earth's vertical
+    # field (the fit leaves it out): the rest is recovered. The grip tilts the phone
+    # by up to 12°, so the phone's vertical is not quite its z axis.
+    vertical = rec.accel[["x", "y", "z"]].to_numpy().mean(axis=0)
+    vertical /= np.linalg.norm(vertical)
+    error = np.asarray(cal.device.mag.hard_iron_uT) - offset
+    assert np.linalg.norm(error - (error @ vertical) * vertical) < 1.0
+    assert abs(cal.device.mag.hard_iron_uT[2]) < 0.3 * np.linalg.norm(offset)
     path = write_calibration(cal, tmp_path / "twin.yaml")
     assert get_device(str(path)).mag.hard_iron_uT == cal.device.mag.hard_iron_uT
     # Standing still, nothing turns: the base profile's spread stands, and says why.
