@@ -554,7 +554,7 @@ def twin_table(
 
     A twin walks the trace's route in the imported floor, flat in the hand, with the
     phone and walker :func:`~indoorsim.benchmark.realism.calibrate.calibrate` fits to
-    the trace (its rates, timing, WiFi scanning, walking speed and height); it is then
+    the trace (its rates, timing, WiFi scanning, walking speed, height and vigour); it is then
     scored as the trace is, at the times it passes the trace's waypoints, starting
     from the first heading to the second.
     """
@@ -568,7 +568,7 @@ def twin_table(
     rows: list[dict] = []
     signals: list[dict] = []
     for name, real in reals.items():
-        cal = calibrate(real, name=f"twin of {name}", base=TWIN_BASE_DEVICE)
+        cal = calibrate(real, name=f"twin of {name}", base=TWIN_BASE_DEVICE, mode=TWIN_MODE)
         waypoints = np.asarray(site.scenario.routes[name].waypoints, dtype=float)
         for est in estimators:
             if progress:
@@ -647,7 +647,9 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         f"The {traces} Indoor Location Competition traces (MIT; site 1, floor F1) and, for "
         f"each, {seeds} simulated twins: the floor imported by `indoorsim import-plan`, "
         "the trace's waypoints as the route, the phone held flat, and the phone and walker "
-        "`indoorsim calibrate` fits to the trace. Both scored the same way, at the "
+        "`indoorsim calibrate` fits to the trace (the walker's height, speed and "
+        "cadence, and its vigour through the flat-held phone: bounce, loading peak and "
+        "heel strikes). Both scored the same way, at the "
         "waypoints, from the first waypoint heading to the second. A real waypoint is "
         "marked before its surveyor reaches it: at the corners the gyro's turn comes "
         f"{results.lead_s:.2f} s after the mark (median over {results.corners} corners), "

@@ -108,7 +108,8 @@ def add_calibrate(subparsers: Subparsers) -> None:
         "from the still parts, gyro bias, the magnetometer's residual hard iron where "
         "the walk turns far enough, light reporting, WiFi scan interval and "
         "threshold) and walker parameters (step rate, speed and step length from the "
-        "waypoints, height, standing time) to a real or simulated recording. Writes YAML "
+        "waypoints, height, standing time; with --mode, the vigour: bounce, loading "
+        "peak and heel strikes) to a real or simulated recording. Writes YAML "
         "with device: and walker: sections, which --device FILE and --walker FILE of "
         "simulate read; figures a recording cannot show come from --base.",
     )
@@ -127,6 +128,14 @@ def add_calibrate(subparsers: Subparsers) -> None:
         default="mid_grade",
         metavar="DEVICE",
         help="profile whose figures stand where the recording shows nothing (default mid_grade)",
+    )
+    parser.add_argument(
+        "--mode",
+        default=None,
+        metavar="MODE",
+        help="carrying mode the recording was made in (handheld, calling, dangling, "
+        "pocketed, or a plug-in's), through which the walker's vigour is fitted "
+        "(default: the recording's own, where it names one; else not fitted)",
     )
     parser.add_argument("--overwrite", action="store_true", help="replace an existing --out")
     parser.set_defaults(handler=_run_calibrate)
@@ -147,13 +156,20 @@ def _run_calibrate(args: argparse.Namespace) -> int:
     if args.out.suffix not in (".yaml", ".yml"):
         raise CliError(f"--out {args.out}: must end in .yaml or .yml (--device reads those)")
     base = device_profile(args.base)
+    if args.mode is not None:
+        from indoorsim.walker.modes import available_modes
+
+        if args.mode not in available_modes():
+            raise CliError(
+                f"--mode {args.mode!r}: not a carrying mode (known: {', '.join(available_modes())})"
+            )
     start = time.perf_counter()
     try:
         rec = Recording.load(args.recording)
     except (RecordingError, OSError) as err:
         raise CliError(f"{args.recording}: {err}") from None
     try:
-        cal = calibrate(rec, name=args.name or args.out.stem, base=base)
+        cal = calibrate(rec, name=args.name or args.out.stem, base=base, mode=args.mode)
     except CalibrationError as err:
         raise CliError(f"{args.recording}: {err}") from None
     write_calibration(cal, args.out)
@@ -171,9 +187,17 @@ def _run_calibrate(args: argparse.Namespace) -> int:
         "step_length_m",
         "height_m",
         "still_s",
+        "acc_step_amplitude",
+        "acc_off_line_rms",
     ):
         if key in m:
             lines.append(f"  {key}: {m[key]:.4g}")
+    if "acc_step_amplitude" in m:
+        w = cal.walker
+        lines.append(
+            f"  walker vigour: bounce_fraction {w.bounce_fraction:.3g}, loading_width "
+            f"{w.loading_width[0]:.3g}, heel_strike_mps2 {w.heel_strike_mps2[0]:.3g}"
+        )
     for key, why in cal.not_measured.items():
         lines.append(f"  not measured: {key} ({why})")
     print("\n".join(lines))

@@ -34,7 +34,11 @@ simulated one, so a simulated recording with known parameters checks the fit:
   last), the step length (speed over step rate), the height that gives that
   step length at that speed in the gait model
   (:func:`~indoorsim.walker.gait.step_length_m`), and how long the walker
-  stood before the first step and after the last.
+  stood before the first step and after the last; and, given the carrying mode,
+  its vigour (the pelvis's bounce, its loading peak and the heel-strike jolts),
+  fitted so that a straight walk in that mode shows the recording's ‖a‖ at the
+  step rate, its second harmonic and what lies off the stride's lines
+  (:mod:`indoorsim.benchmark.realism.vigour`).
 
 Whatever a recording cannot show (scale factors, misalignment, bias
 instability, soft iron, a hard iron without turns, the light sensor's angular
@@ -62,11 +66,13 @@ from scipy.signal import welch
 from indoorsim.benchmark.realism.magnetic import HARD_IRON_MIN_ARC_DEG, hard_iron_residual
 from indoorsim.benchmark.realism.motion import walking_signals
 from indoorsim.benchmark.realism.stats import long_runs, moving_std, peak_frequency
+from indoorsim.benchmark.realism.vigour import fit_vigour
 from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import get_device
 from indoorsim.phone.specs import DeviceProfile, device_from_dict, device_to_dict
 from indoorsim.util.yaml_files import read_yaml_section
 from indoorsim.walker.gait import WalkerParams, step_length_m
+from indoorsim.walker.schedule import ScheduleLike
 
 __all__ = [
     "Calibration",
@@ -222,8 +228,36 @@ def _walker(rec: Recording, measured: dict[str, float], not_measured: dict[str, 
     return fields
 
 
+def _vigour(
+    rec: Recording,
+    walker: WalkerParams,
+    mode: ScheduleLike | None,
+    measured: dict[str, float],
+    not_measured: dict[str, str],
+) -> WalkerParams:
+    """``walker`` with the bounce, loading peak and heel strikes ``rec`` shows in ``mode``."""
+    if mode is None and isinstance(rec.meta.get("mode"), str):
+        mode = rec.meta["mode"]
+    if mode is None:
+        not_measured["walker vigour"] = "carrying mode not known (pass mode): the defaults"
+        return walker
+    fit = fit_vigour(rec, walker, mode)
+    if fit is None:
+        not_measured["walker vigour"] = "no walking part long enough to measure: the defaults"
+        return walker
+    names = ("acc_step_amplitude", "acc_harmonic_ratio", "acc_off_line_rms")
+    for key, real, sim in zip(names, fit.target, fit.reached, strict=True):
+        measured[key] = real
+        measured[f"{key}_fitted_walk"] = sim
+    return fit.walker(walker)
+
+
 def calibrate(
-    rec: Recording, *, name: str = "calibrated", base: str | DeviceProfile = "mid_grade"
+    rec: Recording,
+    *,
+    name: str = "calibrated",
+    base: str | DeviceProfile = "mid_grade",
+    mode: ScheduleLike | None = None,
 ) -> Calibration:
     """Fit a device profile and walker parameters to ``rec`` (see the module docstring).
 
@@ -231,6 +265,10 @@ def calibrate(
         rec: a real or simulated recording with at least an ``accel`` stream.
         name: the fitted profile's name.
         base: the profile whose figures stand where the recording shows nothing.
+        mode: the carrying mode ``rec`` was made in, through which the walker's
+            vigour is fitted (:func:`~indoorsim.benchmark.realism.vigour.fit_vigour`);
+            None takes the recording's own (``meta["mode"]``) where it names one,
+            and otherwise leaves the vigour at the defaults.
 
     Raises:
         CalibrationError: no accelerometer stream.
@@ -351,10 +389,11 @@ def calibrate(
         "reporting, WiFi scan interval and threshold: measured [D]",
         f"everything else: the {base_profile.name} profile",
     ]
-    walker_fields = _walker(rec, measured, not_measured)
+    walker = WalkerParams(**_walker(rec, measured, not_measured))
+    walker = _vigour(rec, walker, mode, measured, not_measured)
     return Calibration(
         device=device_from_dict(data, source="calibration"),
-        walker=WalkerParams(**walker_fields),
+        walker=walker,
         measured={k: float(v) for k, v in measured.items()},
         not_measured=not_measured,
     )

@@ -17,6 +17,7 @@ from indoorsim.benchmark.realism.calibrate import (
     white_noise_density,
     write_calibration,
 )
+from indoorsim.benchmark.realism.vigour import vigour_powers
 from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import DeviceFileError, get_device
 from indoorsim.phone.sensors import apply_inertial, apply_magnetometer, sample_times
@@ -198,3 +199,48 @@ def test_a_device_file_with_an_unknown_field_is_refused(tmp_path):
     path.write_text("name: p\naccel: {rate_hz: -1}\n")
     with pytest.raises(DeviceFileError, match="rate_hz must be > 0"):
         get_device(str(path))
+
+
+@pytest.mark.parametrize(("mode", "seed"), [("handheld", 2), ("pocketed", 1)])
+def test_a_walk_gives_back_its_walkers_vigour_through_its_carrying_mode(mode, seed):
+    """Bounce, loading peak and heel strikes fitted through the mode the recording
+    names: within the spread the mode's own per-use draws leave (the hand's or
+    thigh's stiffness passes the same walker's jolts differently, seed to seed)."""
+    walker = WalkerParams(
+        height_m=1.75,
+        speed_mps=1.2,
+        bounce_fraction=1.0,
+        loading_width=(0.12, 0.12),
+        heel_strike_mps2=(3.0, 3.0),
+    )
+    site = load_site("han2023_corridor")
+    rec = simulate(
+        site, route="trajectory", mode=mode, device="mid_grade", seed=seed, walker=walker
+    )
+    cal = calibrate(rec)
+    assert cal.walker.bounce_fraction == pytest.approx(1.0, rel=0.2)
+    assert cal.walker.heel_strike_mps2[0] == pytest.approx(3.0, rel=0.3)
+    assert cal.walker.loading_width[0] == pytest.approx(0.12, abs=0.03)
+    m = cal.measured
+    assert m["acc_step_amplitude_fitted_walk"] == pytest.approx(m["acc_step_amplitude"], rel=0.05)
+    assert m["acc_off_line_rms_fitted_walk"] == pytest.approx(m["acc_off_line_rms"], rel=0.05)
+    # A recording that does not say how it was carried keeps the default vigour.
+    unknown = Recording._from_built(rec.streams, {k: v for k, v in rec.meta.items() if k != "mode"})
+    bare = calibrate(unknown)
+    assert bare.walker.bounce_fraction == WalkerParams().bounce_fraction
+    assert "walker vigour" in bare.not_measured
+
+
+def test_the_vigours_figures_read_a_pure_bounce_exactly():
+    """A ‖a‖ that is a sine at the step rate plus its second harmonic reads back its
+    amplitude and harmonic ratio, and nothing off the lines."""
+    rate, step_hz = 100.0, 1.8
+    t = np.arange(0.0, 40.0, 1.0 / rate)
+    norm = 9.81 + 3.0 * np.sin(2 * np.pi * step_hz * t) + 0.9 * np.sin(4 * np.pi * step_hz * t)
+    # The walking detector needs a moving ‖a‖: put it all on the z axis.
+    accel = _xyz(t, np.column_stack([np.zeros_like(t), np.zeros_like(t), norm]))
+    rec = Recording._from_built({"accel": accel}, {"source": "synthetic"})
+    first, harmonic, rest = vigour_powers(rec)
+    assert first == pytest.approx(3.0, rel=0.02)
+    assert harmonic == pytest.approx(0.3, rel=0.03)
+    assert rest < 0.1
