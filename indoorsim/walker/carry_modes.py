@@ -168,17 +168,21 @@ class Handheld(CarryMode):
     The arm holds the hand where the eyes read it: it follows the walk, and
     vertically the trunk's bounce and heel strikes, but fore-aft and sideways it
     passes the trunk's surge and sway within each step through a soft damped spring
-    (:func:`~.limbs.transmitted`), and it follows only part of the trunk's yaw.
-    Three joints then carry the phone, each held by muscle like a damped spring
-    (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, the upper arm,
-    held a little out from the side, twists about its own axis, and the hand, with
-    the phone, pivots at the wrist. The elbow's acceleration across the forearm swings
-    the forearm (stiff, 4–6 Hz: the phone's acceleration is the trunk's passed
-    through it, harmonics and all); the hand's acceleration acts on the phone's
-    offset from the wrist and nods it (pitch) and rocks it (roll), softly —
-    the largest rotation of a real handheld phone, at the step rate. The grip
-    turns the phone a little about the forearm, so the nod shows on more than
-    one phone axis.
+    (:func:`~.limbs.transmitted`), and it turns with only part of the trunk's yaw
+    and sideways lean. Three joints then carry the phone, each held by muscle like a
+    damped spring (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, the
+    upper arm, held a little out from the side, twists about its own axis, and the
+    hand, with the phone, pivots at the wrist. The elbow's acceleration across the
+    forearm swings the forearm (stiff, 5.5–7.5 Hz: the phone's acceleration is the
+    trunk's passed through it, harmonics and all) and twists the upper arm (4–6 Hz:
+    the hand moves across the forearm, mostly sideways, even under vertical jolts,
+    as the arm is abducted). The two springs are driven apart, though their
+    motions overlap a little (their directions' cosine is 0.1–0.35): an
+    approximation of the arm's coupled modes. The hand's acceleration acts on the
+    phone's offset from the wrist and nods it (pitch), turns it sideways (yaw,
+    stiffer) and rocks it (roll) — the nod, at the step rate, is the largest
+    rotation of a real handheld phone. The grip turns the phone a little about the
+    forearm, so the nod shows on more than one phone axis.
     """
 
     name: ClassVar[str] = "handheld"
@@ -393,8 +397,9 @@ class Handheld(CarryMode):
         )
         rot = limbs.compose(
             frame,
-            limbs.about("x", coupling * body.roll),
+            # The twist first, about the upper arm as the hand's displacement took it.
             limbs.from_rotvec(twist[:, None] * upper_arm),
+            limbs.about("x", coupling * body.roll),
             limbs.body_frame(misalign + wander + turn),
             limbs.about("z", -np.pi / 2),
             limbs.about("x", math.radians(self.pitch_deg) + swing + nod),

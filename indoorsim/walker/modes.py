@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import dataclasses
 import importlib
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from importlib.metadata import entry_points
@@ -75,6 +76,23 @@ class CarryMode(ABC):
     """Whether the carrier's head and trunk shadow the light sensor geometrically
     (:mod:`indoorsim.walker.silhouette`). False where the phone touches the body
     and the mode's ``light_exposure`` stands for it instead (at the ear, in a pocket)."""
+
+    def __post_init__(self) -> None:
+        """Reject parameters no body has: a frequency or damping ratio that is not
+        positive, a range drawn from whose ends are out of order or not finite."""
+        bad = []
+        for f in dataclasses.fields(self):  # type: ignore[arg-type]
+            value = getattr(self, f.name)
+            ends = value if isinstance(value, tuple) else (value,)
+            if not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in ends):
+                continue
+            ok = all(math.isfinite(v) for v in ends) and (len(ends) != 2 or ends[0] <= ends[1])
+            if f.name.endswith("_hz") or "damping" in f.name:
+                ok = ok and min(ends) > 0
+            if not ok:
+                bad.append(f"{f.name}={value!r}")
+        if bad:
+            raise ValueError(f"{type(self).__name__} parameters out of range: {', '.join(bad)}")
 
     @abstractmethod
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:

@@ -45,6 +45,8 @@ def test_calibrate_a_real_trace_and_simulate_its_twin(tmp_path, capsys):
     assert main(["calibrate", str(trace), "--out", str(twin)]) == 0
     printed = capsys.readouterr().out
     assert f"wrote {twin}" in printed and "speed_mps" in printed
+    # The ILC reader says the phone was held: the vigour is fitted through that.
+    assert "walker vigour: bounce_fraction" in printed and "the fitted walk" in printed
     assert "not measured: accel noise" in printed  # the surveyor never stood still
     fitted = yaml.safe_load(twin.read_text())
     assert fitted["device"]["accel"]["rate_hz"] == pytest.approx(50.0, abs=0.5)
@@ -61,6 +63,7 @@ def test_calibrate_a_real_trace_and_simulate_its_twin(tmp_path, capsys):
         (["/no/such/log", "--out", "{tmp}/a.yaml"], "/no/such/log"),
         (["{walk}", "--out", "{tmp}/a.txt"], "must end in .yaml or .yml"),
         (["{walk}", "--out", "{tmp}/a.yaml", "--base", "brick"], "unknown device 'brick'"),
+        (["{walk}", "--out", "{tmp}/a.yaml", "--mode", "juggling"], "--mode: mode 'juggling'"),
     ],
 )
 def test_calibrate_refuses_bad_arguments(tmp_path, capsys, walk_folder, argv, expected):

@@ -66,7 +66,7 @@ from scipy.signal import welch
 from indoorsim.benchmark.realism.magnetic import HARD_IRON_MIN_ARC_DEG, hard_iron_residual
 from indoorsim.benchmark.realism.motion import walking_signals
 from indoorsim.benchmark.realism.stats import long_runs, moving_std, peak_frequency
-from indoorsim.benchmark.realism.vigour import fit_vigour
+from indoorsim.benchmark.realism.vigour import FIGURES, VigourError, fit_vigour, single_mode
 from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import get_device
 from indoorsim.phone.specs import DeviceProfile, device_from_dict, device_to_dict
@@ -232,23 +232,33 @@ def _vigour(
     rec: Recording,
     walker: WalkerParams,
     mode: ScheduleLike | None,
+    device: DeviceProfile,
     measured: dict[str, float],
     not_measured: dict[str, str],
 ) -> WalkerParams:
-    """``walker`` with the bounce, loading peak and heel strikes ``rec`` shows in ``mode``."""
-    if mode is None and isinstance(rec.meta.get("mode"), str):
-        mode = rec.meta["mode"]
+    """``walker`` with the bounce, loading peak and heel strikes ``rec`` shows in ``mode``
+    (None: the recording's own, where it names one carrying mode)."""
+    if mode is None:
+        own = rec.meta.get("mode")
+        try:
+            mode = single_mode(own) if own is not None else None
+        except VigourError as err:
+            not_measured["walker vigour"] = f"the recording's own {err}: the defaults"
+            return walker
     if mode is None:
         not_measured["walker vigour"] = "carrying mode not known (pass mode): the defaults"
         return walker
-    fit = fit_vigour(rec, walker, mode)
-    if fit is None:
-        not_measured["walker vigour"] = "no walking part long enough to measure: the defaults"
+    try:
+        fit = fit_vigour(rec, walker, mode, device)
+    except VigourError as err:
+        not_measured["walker vigour"] = f"{err}: the defaults"
         return walker
-    names = ("acc_step_amplitude", "acc_harmonic_ratio", "acc_off_line_rms")
-    for key, real, sim in zip(names, fit.target, fit.reached, strict=True):
+    for key, real, sim in zip(FIGURES, fit.target, fit.reached, strict=True):
         measured[key] = real
         measured[f"{key}_fitted_walk"] = sim
+    misses = fit.misses()
+    if misses:
+        not_measured["walker vigour, in part"] = "not reached: " + "; ".join(misses)
     return fit.walker(walker)
 
 
@@ -267,14 +277,23 @@ def calibrate(
         base: the profile whose figures stand where the recording shows nothing.
         mode: the carrying mode ``rec`` was made in, through which the walker's
             vigour is fitted (:func:`~indoorsim.benchmark.realism.vigour.fit_vigour`);
-            None takes the recording's own (``meta["mode"]``) where it names one,
-            and otherwise leaves the vigour at the defaults.
+            None takes the recording's own (``meta["mode"]``, with that mode's
+            default parameters) where it names one carrying mode, and otherwise
+            leaves the vigour at the defaults (``not_measured`` says why, and where
+            the fit fell short).
 
     Raises:
-        CalibrationError: no accelerometer stream.
+        CalibrationError: no accelerometer stream, or a ``mode`` that is not one
+            carrying mode (a schedule of several cannot be replayed on the reference
+            walk).
     """
     if "accel" not in rec.streams or len(rec.accel) < 10:
         raise CalibrationError("the recording has no accelerometer stream to calibrate from")
+    if mode is not None:
+        try:
+            mode = single_mode(mode)
+        except VigourError as err:
+            raise CalibrationError(str(err)) from None
     base_profile = get_device(base) if isinstance(base, str) else base
     data = device_to_dict(base_profile)
     measured: dict[str, float] = {}
@@ -389,10 +408,11 @@ def calibrate(
         "reporting, WiFi scan interval and threshold: measured [D]",
         f"everything else: the {base_profile.name} profile",
     ]
+    device = device_from_dict(data, source="calibration")
     walker = WalkerParams(**_walker(rec, measured, not_measured))
-    walker = _vigour(rec, walker, mode, measured, not_measured)
+    walker = _vigour(rec, walker, mode, device, measured, not_measured)
     return Calibration(
-        device=device_from_dict(data, source="calibration"),
+        device=device,
         walker=walker,
         measured={k: float(v) for k, v in measured.items()},
         not_measured=not_measured,

@@ -15,15 +15,18 @@ them in ‖a‖ while walking, through whatever carries it, as three figures
 
 :func:`fit_vigour` walks a straight corridor with the walker the recording shows
 (its height, speed and cadence) in the recording's carrying mode, measures the
-three with the same function as on the recording, and rescales each parameter
-by its law until they agree. Each figure depends mostly on one parameter, so a
-few passes settle it.
+three with the same function as on the recording, and moves each parameter by
+its law until they agree: first a rescale, then along the secant through its
+last two passes (each figure also has a floor the carrier adds, which a pure
+rescale approaches but never crosses). Each figure depends mostly on one
+parameter, so a few passes settle it; :meth:`VigourFit.misses` says where not.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,12 +35,13 @@ from scipy import signal
 from indoorsim.benchmark.realism.motion import MOTION_RATE_HZ, walking_signals
 from indoorsim.benchmark.realism.stats import peak_frequency
 from indoorsim.io.recording import Recording
+from indoorsim.phone.specs import DeviceProfile
 from indoorsim.scenario.load import load_site
 from indoorsim.scenario.schema import RouteSpec
 from indoorsim.walker.gait import WalkerParams
 from indoorsim.walker.schedule import ScheduleLike
 
-__all__ = ["VigourFit", "fit_vigour", "vigour_powers"]
+__all__ = ["FIGURES", "VigourError", "VigourFit", "fit_vigour", "single_mode", "vigour_powers"]
 
 _CORRIDOR_SITE = "han2023_corridor"
 # The x arm of its corridor, straight for 51 m.
@@ -49,6 +53,11 @@ _HEEL_RANGE = (0.0, 10.0)
 _WIDTH_RANGE = (0.03, 0.5)
 _WINDOW_S = 4.0
 _STEP_BAND_HZ = (1.3, 2.8)
+FIGURES = ("acc_step_amplitude", "acc_harmonic_ratio", "acc_off_line_rms")
+"""Names of :func:`vigour_powers`' three figures, as :func:`calibrate` records them."""
+_MIN_WINDOWS = 3
+"""Fewer windows of walking than this are too few to fit a walker to."""
+_TINY = 1e-6
 _LINES = (0.5, 1.0, 1.5, 2.0)
 """Multiples of the step rate read by projection: the stride's lines up to the second
 harmonic."""
@@ -71,6 +80,23 @@ class VigourFit:
     target: tuple[float, float, float]
     reached: tuple[float, float, float]
 
+    def misses(self, tolerance: float = 0.1) -> list[str]:
+        """What the fit did not reach: each figure the fitted walk misses by more than
+        ``tolerance`` (relative), and each parameter held at the end of its range."""
+        out = [
+            f"{name} {got:.3g} against {want:.3g}"
+            for name, got, want in zip(FIGURES, self.reached, self.target, strict=True)
+            if abs(got / max(want, _TINY) - 1.0) > tolerance
+        ]
+        for name, value, (low, high) in (
+            ("bounce_fraction", self.bounce_fraction, _BOUNCE_RANGE),
+            ("loading_width", self.loading_width, _WIDTH_RANGE),
+            ("heel_strike_mps2", self.heel_strike_mps2, _HEEL_RANGE),
+        ):
+            if value <= low or value >= high:
+                out.append(f"{name} held at {value:.3g}, the end of its range {low}–{high}")
+        return out
+
     def walker(self, walker: WalkerParams) -> WalkerParams:
         """``walker`` with the fitted vigour."""
         return dataclasses.replace(
@@ -84,7 +110,7 @@ class VigourFit:
 def vigour_powers(rec: Recording) -> tuple[float, float, float] | None:
     """(‖a‖'s amplitude at the step rate, its second harmonic's over it, ‖a‖'s RMS
     off the stride's lines), in m/s², 1 and m/s², while ``rec``'s carrier walks;
-    None without a whole window of walking.
+    None with fewer than three windows of walking.
 
     In Hann-tapered 4 s windows of walking (half overlapping) the step rate is ‖a‖'s
     peak at 1.3–2.8 Hz; each window's amplitudes at half, one, one and a half and
@@ -112,62 +138,149 @@ def vigour_powers(rec: Recording) -> tuple[float, float, float] | None:
             power = float(w @ w) / float(taper @ taper)  # the window's mean power
             rest = power - sum(a * a / 2.0 for a in amps)
             rows.append([amps[1], amps[3] / max(amps[1], 1e-9), math.sqrt(max(rest, 0.0))])
-    if not rows:
+    if len(rows) < _MIN_WINDOWS:
         return None
     first, harmonic, rest = np.median(rows, axis=0)
     return float(first), float(harmonic), float(rest)
 
 
-def _walk_powers(walker: WalkerParams, mode: ScheduleLike) -> tuple[float, float, float]:
+class VigourError(ValueError):
+    """The vigour cannot be fitted: a mode that is not one carrying mode, or no
+    walking to measure (on the recording or on the reference walk)."""
+
+
+def single_mode(mode: ScheduleLike) -> list[tuple[float, str, dict]]:
+    """``mode`` as a one-entry schedule, which the straight reference walk can replay.
+
+    Raises:
+        VigourError: a schedule of several modes (their times are the recording's,
+            not the reference walk's), or a name that is not a carrying mode.
+    """
+    from indoorsim.walker.modes import available_modes
+
+    if isinstance(mode, str):
+        entry: tuple = (0.0, mode, {})
+    elif isinstance(mode, (list, tuple)) and len(mode) == 1 and isinstance(mode[0], (list, tuple)):
+        entry = tuple(mode[0])
+    else:
+        raise VigourError(
+            f"mode {mode!r}: the vigour is fitted through one carrying mode (a name, or a "
+            "schedule of one entry)"
+        )
+    name = entry[1] if len(entry) > 1 else None
+    if name not in available_modes():
+        raise VigourError(f"mode {name!r}: not a carrying mode ({', '.join(available_modes())})")
+    params = dict(entry[2]) if len(entry) > 2 and entry[2] else {}
+    return [(0.0, name, params)]
+
+
+def _walk_powers(
+    walker: WalkerParams, mode: list, device: str | DeviceProfile
+) -> tuple[float, float, float]:
     """The three figures of straight walks by ``walker`` in ``mode``, averaged over seeds."""
     from indoorsim.simulate import simulate  # the simulator imports the benchmark's neighbours
 
     site = load_site(_CORRIDOR_SITE)
     route = RouteSpec(waypoints=_CORRIDOR, speed=walker.speed_mps or 1.2)
+    # Standing is not measured: the reference walks start and end with a step.
+    moving = dataclasses.replace(walker, stand_start_s=0.5, stand_end_s=0.5)
     powers = []
     for seed in _SEEDS:
-        rec = simulate(site, route=route, mode=mode, walker=walker, seed=seed)
+        rec = simulate(site, route=route, mode=mode, walker=moving, device=device, seed=seed)
         got = vigour_powers(rec)
         if got is None:
-            raise RuntimeError("the straight reference walk shows no walking spectrum")
+            raise VigourError(
+                f"a straight walk at {route.speed:.2f} m/s in this mode shows no walking to measure"
+            )
         powers.append(got)
     mean = np.mean(powers, axis=0)
     return float(mean[0]), float(mean[1]), float(mean[2])
 
 
-def fit_vigour(rec: Recording, walker: WalkerParams, mode: ScheduleLike) -> VigourFit | None:
+def _secant(
+    history: list[tuple[float, float]],
+    target: float,
+    proportional: float,
+    law: tuple[Callable[[float], float], Callable[[float], float]],
+) -> float:
+    """The next value of a parameter from its ``history`` of (value, figure) pairs.
+
+    ``law`` is (to, back): the transform of the parameter in which the figure is
+    taken as affine (its power law plus a floor the carrier adds, which a pure
+    rescale cannot cross), and its inverse. The step goes through the last two
+    points when they are distinct and the slope is positive, else it is the
+    ``proportional`` rescale.
+    """
+    if len(history) >= 2:
+        (p0, y0), (p1, y1) = history[-2], history[-1]
+        x0, x1 = law[0](p0), law[0](p1)
+        if abs(x1 - x0) > 1e-12 and (y1 - y0) / (x1 - x0) > 0:
+            slope = (y1 - y0) / (x1 - x0)
+            return law[1](x1 + (target - y1) / slope)
+    return proportional
+
+
+def fit_vigour(
+    rec: Recording,
+    walker: WalkerParams,
+    mode: ScheduleLike,
+    device: str | DeviceProfile = "ideal",
+) -> VigourFit:
     """Bounce, loading width and heel strikes that give a straight walk by ``walker``
-    (its height, speed and standing times as fitted) in ``mode`` the ‖a‖ figures
-    ``rec`` shows while walking (see the module docstring); None when ``rec`` has
-    no walking part long enough to measure."""
+    (its height and speed as fitted; its cadence follows from them in the gait model)
+    in ``mode``, recorded by ``device``, the ‖a‖ figures ``rec`` shows while walking
+    (see the module docstring).
+
+    Raises:
+        VigourError: ``mode`` is not one carrying mode, or there is too little
+            walking to measure in ``rec`` or on the reference walk.
+    """
+    schedule = single_mode(mode)
     target = vigour_powers(rec)
     if target is None:
-        return None
+        raise VigourError(f"fewer than {_MIN_WINDOWS} windows of walking to measure")
     bounce = walker.bounce_fraction
     width = float(np.mean(walker.loading_width))
     heel = float(np.mean(walker.heel_strike_mps2))
+    histories: tuple[list, list, list] = ([], [], [])
     fit = None
     for _ in range(_PASSES):
+        trial = dataclasses.replace(
+            walker,
+            bounce_fraction=bounce,
+            loading_width=(width, width),
+            heel_strike_mps2=(heel, heel),
+        )
+        reached = _walk_powers(trial, schedule, device)
         fit = VigourFit(
             bounce_fraction=bounce,
             loading_width=width,
             heel_strike_mps2=heel,
             target=target,
-            reached=_walk_powers(
-                dataclasses.replace(
-                    walker,
-                    bounce_fraction=bounce,
-                    loading_width=(width, width),
-                    heel_strike_mps2=(heel, heel),
-                ),
-                mode,
-            ),
+            reached=reached,
         )
-        step, harmonic, rest = fit.reached
-        bounce = float(np.clip(bounce * target[0] / step, *_BOUNCE_RANGE))
-        heel = float(np.clip(heel * target[2] / rest, *_HEEL_RANGE))
-        # exp(−6π²σ²) ∝ the harmonic ratio: σ² moves by −ln(ratio's change)/(6π²).
-        width_sq = width**2 - math.log(target[1] / harmonic) / (6.0 * math.pi**2)
-        width = float(np.clip(math.sqrt(max(width_sq, 0.0)), *_WIDTH_RANGE))
+        step, harmonic, rest = (max(v, _TINY) for v in reached)
+        pairs = zip(histories, (bounce, width, heel), (step, harmonic, rest), strict=True)
+        for history, value, figure in pairs:
+            history.append((value, figure))
+        # Amplitude ∝ bounce; log of the harmonic ratio falls with σ²; RMS² grows with heel².
+        bounce = _secant(
+            histories[0], target[0], bounce * target[0] / step, (lambda v: v, lambda x: x)
+        )
+        width = _secant(
+            [(w, math.log(y)) for w, y in histories[1]],
+            math.log(target[1]),
+            math.sqrt(max(width**2 - math.log(target[1] / harmonic) / (6 * math.pi**2), 0.0)),
+            (lambda v: -(v**2), lambda x: math.sqrt(max(-x, 0.0))),
+        )
+        heel = _secant(
+            [(h, y * y) for h, y in histories[2]],
+            target[2] ** 2,
+            heel * target[2] / rest,
+            (lambda v: v * v, lambda x: math.sqrt(max(x, 0.0))),
+        )
+        bounce = float(np.clip(bounce, *_BOUNCE_RANGE))
+        width = float(np.clip(width, *_WIDTH_RANGE))
+        heel = float(np.clip(heel, *_HEEL_RANGE))
     assert fit is not None
     return fit

@@ -17,7 +17,7 @@ from indoorsim.benchmark.realism.calibrate import (
     white_noise_density,
     write_calibration,
 )
-from indoorsim.benchmark.realism.vigour import vigour_powers
+from indoorsim.benchmark.realism.vigour import FIGURES, vigour_powers
 from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import DeviceFileError, get_device
 from indoorsim.phone.sensors import apply_inertial, apply_magnetometer, sample_times
@@ -201,34 +201,54 @@ def test_a_device_file_with_an_unknown_field_is_refused(tmp_path):
         get_device(str(path))
 
 
-@pytest.mark.parametrize(("mode", "seed"), [("handheld", 2), ("pocketed", 1)])
-def test_a_walk_gives_back_its_walkers_vigour_through_its_carrying_mode(mode, seed):
-    """Bounce, loading peak and heel strikes fitted through the mode the recording
-    names: within the spread the mode's own per-use draws leave (the hand's or
-    thigh's stiffness passes the same walker's jolts differently, seed to seed)."""
+@pytest.mark.parametrize("mode", ["handheld", "pocketed"])
+def test_a_walk_gives_back_its_walkers_vigour_through_its_carrying_mode(mode):
+    """A walker outside the default ranges (a sharp loading peak, hard heel strikes)
+    fitted through the mode the recording names: bounce and width within the spread
+    the mode's own per-use draws leave; the heel strikes in the hand, where nothing
+    else jolts (in a pocket the thigh's own jolt at each heel strike is not told
+    from them); and the fitted walk shows what the recording shows."""
     walker = WalkerParams(
         height_m=1.75,
         speed_mps=1.2,
         bounce_fraction=1.0,
-        loading_width=(0.12, 0.12),
-        heel_strike_mps2=(3.0, 3.0),
+        loading_width=(0.09, 0.09),
+        heel_strike_mps2=(6.0, 6.0),
     )
     site = load_site("han2023_corridor")
-    rec = simulate(
-        site, route="trajectory", mode=mode, device="mid_grade", seed=seed, walker=walker
-    )
+    rec = simulate(site, route="trajectory", mode=mode, device="mid_grade", seed=2, walker=walker)
     cal = calibrate(rec)
     assert cal.walker.bounce_fraction == pytest.approx(1.0, rel=0.2)
-    assert cal.walker.heel_strike_mps2[0] == pytest.approx(3.0, rel=0.3)
-    assert cal.walker.loading_width[0] == pytest.approx(0.12, abs=0.03)
+    assert cal.walker.loading_width[0] == pytest.approx(0.09, abs=0.02)
+    if mode == "handheld":
+        assert cal.walker.heel_strike_mps2[0] == pytest.approx(6.0, rel=0.15)
     m = cal.measured
-    assert m["acc_step_amplitude_fitted_walk"] == pytest.approx(m["acc_step_amplitude"], rel=0.05)
-    assert m["acc_off_line_rms_fitted_walk"] == pytest.approx(m["acc_off_line_rms"], rel=0.05)
-    # A recording that does not say how it was carried keeps the default vigour.
-    unknown = Recording._from_built(rec.streams, {k: v for k, v in rec.meta.items() if k != "mode"})
-    bare = calibrate(unknown)
-    assert bare.walker.bounce_fraction == WalkerParams().bounce_fraction
-    assert "walker vigour" in bare.not_measured
+    for key in FIGURES:
+        assert m[f"{key}_fitted_walk"] == pytest.approx(m[key], rel=0.1)
+    assert "walker vigour, in part" not in cal.not_measured
+
+
+def test_the_vigour_is_left_alone_where_the_mode_is_not_known_or_not_one(walked):
+    rec, _ = walked
+    defaults = WalkerParams()
+    # A recording that does not say how it was carried.
+    bare = Recording._from_built(rec.streams, {k: v for k, v in rec.meta.items() if k != "mode"})
+    cal = calibrate(bare)
+    assert cal.walker.bounce_fraction == defaults.bounce_fraction
+    assert "carrying mode not known" in cal.not_measured["walker vigour"]
+    # One that names a position no mode models (the Oxford walks' bag, purse...).
+    purse = Recording._from_built(rec.streams, {**rec.meta, "mode": "Purse"})
+    cal = calibrate(purse)
+    assert cal.walker.loading_width == defaults.loading_width
+    assert "Purse" in cal.not_measured["walker vigour"]
+    # Asked for by the caller, a bad mode is an error, not a silent default.
+    with pytest.raises(CalibrationError, match="not a carrying mode"):
+        calibrate(rec, mode="Purse")
+    with pytest.raises(CalibrationError, match="one carrying mode"):
+        calibrate(rec, mode=[(0.0, "handheld"), (20.0, "pocketed")])
+    # A one-entry schedule with its parameters is one mode.
+    flat = calibrate(rec, mode=[(0.0, "handheld", {"pitch_deg": 0.0})])
+    assert "acc_step_amplitude" in flat.measured
 
 
 def test_the_vigours_figures_read_a_pure_bounce_exactly():
