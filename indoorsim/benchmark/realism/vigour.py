@@ -10,8 +10,9 @@ them in ‖a‖ while walking, through whatever carries it, as three figures
 * its second harmonic's amplitude over the first's (the loading peak's
   sharpness: a peak of width σ steps has harmonics falling as exp(−(2πkσ)²/2),
   so the ratio is ∝ exp(−6π²σ²));
-* its RMS off the stride's lines, at the step rate's higher multiples and between
-  them (the jolts: ∝ ``heel_strike_mps2``).
+* its RMS at 5–15 Hz, above any cadence's second harmonic (the jolts:
+  ∝ ``heel_strike_mps2``; the content between the lines below is the steps'
+  irregularity, not their force).
 
 :func:`fit_vigour` walks a straight corridor with the walker the recording shows
 (its height, speed and cadence) in the recording's carrying mode, measures the
@@ -53,14 +54,14 @@ _HEEL_RANGE = (0.0, 10.0)
 _WIDTH_RANGE = (0.03, 0.5)
 _WINDOW_S = 4.0
 _STEP_BAND_HZ = (1.3, 2.8)
-FIGURES = ("acc_step_amplitude", "acc_harmonic_ratio", "acc_off_line_rms")
+FIGURES = ("acc_step_amplitude", "acc_harmonic_ratio", "acc_jolt_rms")
 """Names of :func:`vigour_powers`' three figures, as :func:`calibrate` records them."""
 _MIN_WINDOWS = 3
 """Fewer windows of walking than this are too few to fit a walker to."""
 _TINY = 1e-6
-_LINES = (0.5, 1.0, 1.5, 2.0)
-"""Multiples of the step rate read by projection: the stride's lines up to the second
-harmonic."""
+_JOLT_BAND_HZ = (5.0, 15.0)
+"""Where the heel strikes' jolts are read: above any cadence's second harmonic, below
+the phones' usual 50 Hz rate's reach."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -108,14 +109,15 @@ class VigourFit:
 
 
 def vigour_powers(rec: Recording) -> tuple[float, float, float] | None:
-    """(‖a‖'s amplitude at the step rate, its second harmonic's over it, ‖a‖'s RMS
-    off the stride's lines), in m/s², 1 and m/s², while ``rec``'s carrier walks;
-    None with fewer than three windows of walking.
+    """(‖a‖'s amplitude at the step rate, its second harmonic's over it, ‖a‖'s RMS at
+    5–15 Hz), in m/s², 1 and m/s², while ``rec``'s carrier walks; None with fewer
+    than three windows of walking.
 
     In Hann-tapered 4 s windows of walking (half overlapping) the step rate is ‖a‖'s
-    peak at 1.3–2.8 Hz; each window's amplitudes at half, one, one and a half and
-    two times it are read by projection, and what is left of the window's power is
-    off those lines (the higher harmonics and the jolts). Each figure is the median
+    peak at 1.3–2.8 Hz, and each window's amplitudes at one and two times it are
+    read by projection; the jolts' RMS is the window's power in 5–15 Hz, above the
+    second harmonic of any walking cadence (the content between the lines below
+    that is the steps' irregularity, not their force). Each figure is the median
     over windows: a real surveyor's taps on the screen at each waypoint jolt a few
     windows, and a mean over the walk (its spectrum's) reads them as vigour.
     """
@@ -126,6 +128,9 @@ def vigour_powers(rec: Recording) -> tuple[float, float, float] | None:
     taper = signal.windows.hann(n, sym=False)
     gain = 2.0 / taper.sum()
     freqs = np.fft.rfftfreq(8 * n, 1.0 / rate)
+    # One-sided: every bin but DC (and Nyquist) counts twice in the window's power.
+    twice = np.where((freqs > 0) & (freqs < rate / 2), 2.0, 1.0)
+    jolt_band = (freqs >= _JOLT_BAND_HZ[0]) & (freqs <= _JOLT_BAND_HZ[1])
     rows = []
     for run in sig.runs:
         for start in range(run.start, run.stop - n + 1, n // 2):
@@ -134,14 +139,17 @@ def vigour_powers(rec: Recording) -> tuple[float, float, float] | None:
             # Refined between bins: read off the line, the projections would leak.
             power_spectrum = np.abs(np.fft.rfft(w, 8 * n)) ** 2
             step_hz = peak_frequency(freqs, power_spectrum, _STEP_BAND_HZ)
-            amps = [gain * abs(np.exp(-2j * np.pi * k * step_hz * t) @ w) for k in _LINES]
+            first, second = (
+                gain * abs(np.exp(-2j * np.pi * k * step_hz * t) @ w) for k in (1.0, 2.0)
+            )
+            weighted = twice * power_spectrum
             power = float(w @ w) / float(taper @ taper)  # the window's mean power
-            rest = power - sum(a * a / 2.0 for a in amps)
-            rows.append([amps[1], amps[3] / max(amps[1], 1e-9), math.sqrt(max(rest, 0.0))])
+            jolts = power * float(weighted[jolt_band].sum() / weighted.sum())
+            rows.append([first, second / max(first, _TINY), math.sqrt(jolts)])
     if len(rows) < _MIN_WINDOWS:
         return None
-    first, harmonic, rest = np.median(rows, axis=0)
-    return float(first), float(harmonic), float(rest)
+    first, harmonic, jolts = np.median(rows, axis=0)
+    return float(first), float(harmonic), float(jolts)
 
 
 class VigourError(ValueError):
@@ -259,8 +267,8 @@ def fit_vigour(
             target=target,
             reached=reached,
         )
-        step, harmonic, rest = (max(v, _TINY) for v in reached)
-        pairs = zip(histories, (bounce, width, heel), (step, harmonic, rest), strict=True)
+        step, harmonic, jolts = (max(v, _TINY) for v in reached)
+        pairs = zip(histories, (bounce, width, heel), (step, harmonic, jolts), strict=True)
         for history, value, figure in pairs:
             history.append((value, figure))
         # Amplitude ∝ bounce; log of the harmonic ratio falls with σ²; RMS² grows with heel².
@@ -276,7 +284,7 @@ def fit_vigour(
         heel = _secant(
             [(h, y * y) for h, y in histories[2]],
             target[2] ** 2,
-            heel * target[2] / rest,
+            heel * target[2] / jolts,
             (lambda v: v * v, lambda x: math.sqrt(max(x, 0.0))),
         )
         bounce = float(np.clip(bounce, *_BOUNCE_RANGE))

@@ -251,16 +251,23 @@ def test_the_vigour_is_left_alone_where_the_mode_is_not_known_or_not_one(walked)
     assert "acc_step_amplitude" in flat.measured
 
 
-def test_the_vigours_figures_read_a_pure_bounce_exactly():
+def test_the_vigours_figures_read_a_bounce_and_its_jolts_exactly():
     """A ‖a‖ that is a sine at the step rate plus its second harmonic reads back its
-    amplitude and harmonic ratio, and nothing off the lines."""
+    amplitude and harmonic ratio and no jolts; a 9 Hz tone of known RMS added on top
+    reads back as the jolts' RMS, and leaves the other two."""
     rate, step_hz = 100.0, 1.8
     t = np.arange(0.0, 40.0, 1.0 / rate)
-    norm = 9.81 + 3.0 * np.sin(2 * np.pi * step_hz * t) + 0.9 * np.sin(4 * np.pi * step_hz * t)
-    # The walking detector needs a moving ‖a‖: put it all on the z axis.
-    accel = _xyz(t, np.column_stack([np.zeros_like(t), np.zeros_like(t), norm]))
-    rec = Recording._from_built({"accel": accel}, {"source": "synthetic"})
-    first, harmonic, rest = vigour_powers(rec)
+    bounce = 3.0 * np.sin(2 * np.pi * step_hz * t) + 0.9 * np.sin(4 * np.pi * step_hz * t)
+
+    def figures(norm: np.ndarray) -> tuple[float, float, float]:
+        # The walking detector needs a moving ‖a‖: put it all on the z axis.
+        accel = _xyz(t, np.column_stack([np.zeros_like(t), np.zeros_like(t), 9.81 + norm]))
+        return vigour_powers(Recording._from_built({"accel": accel}, {"source": "synthetic"}))
+
+    first, harmonic, jolts = figures(bounce)
     assert first == pytest.approx(3.0, rel=0.02)
     assert harmonic == pytest.approx(0.3, rel=0.03)
-    assert rest < 0.1
+    assert jolts < 0.02
+    first, harmonic, jolts = figures(bounce + 0.5 * np.sqrt(2) * np.sin(2 * np.pi * 9.0 * t))
+    assert jolts == pytest.approx(0.5, rel=0.03)
+    assert first == pytest.approx(3.0, rel=0.02) and harmonic == pytest.approx(0.3, rel=0.03)
