@@ -51,6 +51,7 @@ from indoorsim.benchmark.realism.calibrate import calibrate
 from indoorsim.benchmark.realism.magnetic import hard_iron_residual, magnetic_statistics
 from indoorsim.benchmark.realism.motion import HELD_KEYS, motion_statistics
 from indoorsim.benchmark.realism.reference import MODELLED_MODES
+from indoorsim.benchmark.realism.vigour import vigour_powers
 from indoorsim.estimators.frames import wrap_angle, yaw_rate
 from indoorsim.estimators.pdr.steps import PeakStepDetector
 from indoorsim.io.reallogs.ilc import read_ilc_trace
@@ -448,7 +449,9 @@ def walk_signals(rec: Recording) -> dict[str, float]:
     """What the phone felt between the first and the last waypoint: the step rate, ‖a‖'s
     std while walking (:mod:`~indoorsim.benchmark.realism.motion`), the median swing
     of one step of the low-passed ‖a‖ (peak to valley, the input of Weinberg's step
-    length), the largest gyro axis's RMS, how the held phone surges, sways, bobs
+    length), ‖a‖'s jolts (its RMS at 5–15 Hz,
+    :func:`~indoorsim.benchmark.realism.vigour.vigour_powers`), the gyro axes' RMS,
+    how the held phone surges, sways, bobs
     and turns within each step (:func:`~indoorsim.benchmark.realism.motion.held_phone_motion`),
     the spread of ‖m‖ along the path, in all and at wavelengths over 10 m
     (:func:`~indoorsim.benchmark.realism.magnetic.magnetic_statistics`), and the
@@ -463,12 +466,16 @@ def walk_signals(rec: Recording) -> dict[str, float]:
     first, last = (float(v) for v in rec.waypoints.index[[0, -1]])
     steps = PeakStepDetector().update(t, rec.accel[["x", "y", "z"]].to_numpy(dtype=float))
     swings = [s.a_max - s.a_min for s in steps if first <= s.t <= last]
+    vigour = vigour_powers(rec)
     return (
         {
             "step_hz": stats["step_hz"],
             "acc_std": stats["acc_std"],
             "step_swing": float(np.median(swings)) if swings else float("nan"),
+            "acc_jolt_rms": vigour[2] if vigour is not None else float("nan"),
             "gyro_rms_1": stats["gyro_rms_1"],
+            "gyro_rms_2": stats["gyro_rms_2"],
+            "gyro_rms_3": stats["gyro_rms_3"],
         }
         | {key: stats[key] for key in HELD_KEYS}
         | {"mag_std": field["mag_std"], "mag_std_long": field["std_long"]}
@@ -484,7 +491,10 @@ SIGNALS = {
     "step_hz": "step rate (Hz)",
     "acc_std": "‖a‖ std while walking (m/s²)",
     "step_swing": "swing of low-passed ‖a‖ per step (m/s²)",
+    "acc_jolt_rms": "‖a‖ RMS at 5–15 Hz while walking, the jolts (m/s²)",
     "gyro_rms_1": "gyro RMS, largest axis (rad/s)",
+    "gyro_rms_2": "gyro RMS, middle axis (rad/s)",
+    "gyro_rms_3": "gyro RMS, smallest axis (rad/s)",
     "surge_step": "forward acceleration at the step rate (m/s²)",
     "sway_stride": "sideways acceleration at the stride rate (m/s²)",
     "bob_step": "vertical acceleration at the step rate (m/s²)",
