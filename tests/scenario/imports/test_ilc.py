@@ -50,6 +50,37 @@ def test_each_shop_gets_one_door_centred_on_its_corridor_side(two_shops):
         assert 2.4 <= d.width <= 4.0
 
 
+def test_a_long_narrow_non_open_area_is_an_escalator_with_a_rising_steel_truss():
+    """No door, no light, four dipoles on its long axis at the heights of a truss rising
+    from 0.3 m over the floor to 0.3 m under the ceiling; a square non-open area of
+    the same label stays a unit with a door."""
+    plan = {
+        "A": [(0, 4), (8, 4), (8, 10), (0, 10)],
+        "feikaifangquyu": [(10, 6), (19, 6), (19, 7.5), (10, 7.5)],  # 9 m × 1.5 m
+    }
+    bare = import_ilc_floor(parse_ilc_floor(plan_geojson({"A": plan["A"]}), INFO), seed=3)
+    imported = import_ilc_floor(parse_ilc_floor(plan_geojson(plan), INFO), seed=3)
+    s = imported.scenario
+    assert imported.escalators == 1 and imported.doorless == ()
+    assert [d.position[0] < 8 for d in s.doors] == [True]
+    escalator = shapely.box(10, 6, 19, 7.5)
+    assert not any(escalator.contains(shapely.Point(lum.position[:2])) for lum in s.luminaires)
+    known = {tuple(d.position) for d in bare.scenario.magnetic.dipoles}
+    truss = [d for d in s.magnetic.dipoles if escalator.contains(shapely.Point(d.position[:2]))]
+    assert len(truss) == 4 and not known & {tuple(d.position) for d in truss}
+    assert {round(d.position[1], 3) for d in truss} == {6.75}
+    heights = [d.position[2] for d in sorted(truss, key=lambda d: d.position[0])]
+    h = s.site.ceiling_height
+    along = np.array([0.1, 11 / 30, 19 / 30, 0.9])  # linspace(-0.4, 0.4, 4) + 0.5
+    assert sorted(heights) == pytest.approx(0.3 + along * (h - 0.6), abs=1e-3)
+    assert heights == sorted(heights) or heights == sorted(heights, reverse=True)
+    for d in truss:
+        assert 40.0 <= float(np.linalg.norm(d.moment)) <= 80.0 + 1e-6
+    square = {"A": plan["A"], "feikaifangquyu": [(12, 4), (16, 4), (16, 8), (12, 8)]}
+    kept = import_ilc_floor(parse_ilc_floor(plan_geojson(square), INFO), seed=3)
+    assert kept.escalators == 0 and len(kept.scenario.doors) == 2
+
+
 def test_walls_follow_the_outline_and_the_shops_once_each(two_shops):
     walls = two_shops.scenario.walls
     kinds = sorted((w.material, w.thickness) for w in walls)
@@ -181,7 +212,8 @@ def test_ms_waypoints_fall_in_the_corridors(ms, ms_traces):
 def test_ms_floor_is_a_mall(ms):
     s, n = ms.scenario, ms.counts()
     assert n["rooms"] == 172 and ms.slivers == ()
-    assert n["doors"] + len(ms.doorless) == 172 and n["doors"] > 120
+    assert n["doors"] + len(ms.doorless) + ms.escalators == 172 and n["doors"] > 120
+    assert ms.escalators == 9  # of the 46 non-open areas
     assert n["lights"] > 1000 and n["aps"] > 50 and n["pillars"] > 50
     assert s.site.latitude == pytest.approx(30.29, abs=0.01)
     assert s.site.longitude == pytest.approx(120.08, abs=0.01)
