@@ -18,6 +18,11 @@ the refactors it checks):
   fingerprint table and its metadata;
 * ``generated``: every procedural building kind at two seeds: the scenario
   YAML text and the built site's magnetic field, illuminance and RSS on a grid;
+* ``imported``: the MS Indoor Location floor as ``import-plan`` makes it, with the
+  real traces' routes (the sim-to-real twins' site: YAML text and field,
+  illuminance and RSS on a grid), and the twin of its first trace: the
+  calibrated phone and walker, and the recording they walk (skipped, with 0
+  items, where the real data is absent);
 * ``dataset``: a 4-shard data set (shard bytes and the card's counts and
   checksums; timings and versions excluded);
 * ``leaderboard``: the quick leaderboard's metric columns (run-time columns,
@@ -47,6 +52,7 @@ from indoorsim.dataset import DatasetConfig, build_dataset
 from indoorsim.scenario import bundled_scenarios
 from indoorsim.simulate import simulate
 from indoorsim.survey import grid_survey, walk_survey
+from indoorsim.util.provenance import realdata_dir
 
 # Generators and the leaderboard moved in the "Architecture" refactor; the
 # script reads them from where they are so that it runs on both sides of it.
@@ -58,6 +64,8 @@ try:
     from indoorsim.benchmark.leaderboard import BoardConfig, run_leaderboard
 except ImportError:
     from indoorsim.leaderboard import BoardConfig, run_leaderboard
+from indoorsim.benchmark.realism.calibrate import calibrate
+from indoorsim.benchmark.sim_to_real import TWIN_BASE_DEVICE, TWIN_MODE, twin_site
 
 MODES = ("handheld", "calling", "dangling", "pocketed")
 DEVICES = ("nexus_5x", "honor_50", "vivo_s9", "ideal")
@@ -157,6 +165,31 @@ def generated() -> Iterator[tuple[str, str]]:
             )
 
 
+def imported() -> Iterator[tuple[str, str]]:
+    real = realdata_dir()
+    if not (real / "ms-indoor-location-2020").is_dir():
+        return
+    site, traces, _ = twin_site(real)
+    pts = _field_grid(site)
+    normals = np.tile([0.0, 0.0, 1.0], (len(pts), 1))
+    yield (
+        "ilc-F1/seed0",
+        _digest(
+            indoorsim.dump_scenario(site.scenario),
+            site.magnetic_field(pts).tobytes(),
+            site.illuminance(pts, normals).tobytes(),
+            site.rss(pts).tobytes(),
+        ),
+    )
+    name = sorted(traces)[0]
+    cal = calibrate(
+        Recording.load(traces[name]), name="twin", base=TWIN_BASE_DEVICE, mode=TWIN_MODE
+    )
+    walk = simulate(site, route=name, mode=TWIN_MODE, device=cal.device, walker=cal.walker, seed=0)
+    profile = _json({"walker": str(cal.walker), "device": str(cal.device)})
+    yield f"ilc-F1/twin/{name}", _digest(profile, recording_digest(walk))
+
+
 def dataset() -> Iterator[tuple[str, str]]:
     config = DatasetConfig(
         sites=2, walks_per_site=4, walks_per_shard=2, minutes=0.5, seed=5, bundled_share=0.5
@@ -204,6 +237,7 @@ def run(full: bool, only: set[str] | None) -> dict[str, dict[str, str]]:
         "recordings": recordings,
         "surveys": surveys,
         "generated": generated,
+        "imported": imported,
         "dataset": dataset,
         "leaderboard": lambda: leaderboard(full),
     }
@@ -229,7 +263,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--only",
         nargs="+",
-        choices=("recordings", "surveys", "generated", "dataset", "leaderboard"),
+        choices=("recordings", "surveys", "generated", "imported", "dataset", "leaderboard"),
         help="hash these groups only",
     )
     args = parser.parse_args(argv)
