@@ -446,7 +446,8 @@ def _path_ratio(result: WalkResult) -> float:
 
 
 def walk_signals(rec: Recording) -> dict[str, float]:
-    """What the phone felt between the first and the last waypoint: the step rate, ‖a‖'s
+    """What the phone felt (the swing per step between the first and the last waypoint,
+    the rest over the whole walk's walking parts): the step rate, ‖a‖'s
     std while walking (:mod:`~indoorsim.benchmark.realism.motion`), the median swing
     of one step of the low-passed ‖a‖ (peak to valley, the input of Weinberg's step
     length), ‖a‖'s jolts (its RMS at 5–15 Hz,

@@ -123,7 +123,8 @@ def _run_import_plan(args: argparse.Namespace) -> int:
     print(
         f"  walls {n['walls']} ({', '.join(f'{v} {k}' for k, v in sorted(materials.items()))}), "
         f"rooms {n['rooms']} ({len(imported.slivers)} sliver shops dropped), doors {n['doors']} "
-        f"({len(imported.doorless)} shops without a corridor frontage for one)"
+        f"({len(imported.doorless)} shops without a corridor frontage for one, "
+        f"{imported.escalators} escalators without)"
     )
     print(
         f"  lights {n['lights']}, APs {n['aps']} ({n['radios']} radios), columns "

@@ -238,8 +238,9 @@ class Handheld(CarryMode):
     wrist_turn_hz: tuple[float, float] = (4.5, 6.0)
     """Range of its natural frequency in radial-ulnar deviation (the sideways turn),
     drawn per use: the wrist is stiffer that way than in flexion, about 1.5–2 times
-    [E]; a turn as soft as the nod, under the sideways jolts the twisting arm passes
-    on, rang at 3–4 Hz three times harder than real held phones turn there."""
+    [E]; a turn as soft as the nod was (3–4 Hz), under the sideways jolts the
+    twisting arm passes on, rang there three times harder than real held phones
+    turn."""
     wrist_roll_hz: tuple[float, float] = (4.5, 6.5)
     """Range of its natural frequency in rotation about the forearm, drawn per use [E]."""
     wrist_damping: tuple[float, float] = (0.3, 0.5)

@@ -41,14 +41,15 @@ ends. A shop without such a frontage is left without a door (the summary counts
 them). The outline gets no doors: routes stay inside.
 
 **Escalators** (the rule): a unit labelled a non-open area (``feikaifangquyu``)
-whose smallest enclosing rectangle is 7–14 m long and 0.9–2.3 m wide is an
-escalator, not a shop: its edges stay walls (the balustrades), it gets no door,
-light or AP, and its steel truss is four dipoles of 40–80 A·m² on its long
-axis, at a tenth, three tenths and a half, and nine tenths of its length, each
-at the height of a truss rising from 0.3 m over the floor at one end (drawn) to
-0.3 m under the ceiling at the other, as ``open_hall`` places its escalator. On the MS floor 9 of
-the 46 non-open areas are escalators; within 1 m of them the real traces' ‖m‖
-varies 2.7–3.3 µT (high-passed) against 1.2–1.3 µT far from them.
+whose smallest enclosing rectangle is 7–14 m long and 0.9–2.3 m wide, and which
+fills at least 0.8 of it, is an escalator, not a shop: its edges stay walls (the
+balustrades), it gets no door, light, AP or column, and its steel truss is four
+dipoles of 40–80 A·m² on its long axis, at 0.1, 0.37, 0.63 and 0.9 of its
+length, each at the height of a truss rising from 0.3 m over the floor at one
+end (drawn) to 0.3 m under the ceiling at the other, as ``open_hall`` places its
+escalator. On the MS floor 9 of the 46 non-open areas are escalators; within
+1 m of them the real traces' ‖m‖ varies 2.7–3.3 µT (high-passed) against
+1.2–1.3 µT far from them.
 
 **What the plan does not show**, placed by ``open_hall``'s rules (see
 :mod:`~indoorsim.scenario.generate.open_hall` and REALISM §2.3, §3.2, §3.3,
@@ -147,6 +148,8 @@ _ESCALATOR_WIDTH_M = (0.9, 2.3)
 """A non-open area whose smallest enclosing rectangle is this long and this narrow is an
 escalator: 1–1.6 m across its balustrades, 8–14 m of truss for a 4–6 m storey
 rising at 30° with its landings [E]."""
+_ESCALATOR_FILL = 0.8
+"""...and fills at least this share of that rectangle."""
 _ESCALATOR_MOMENT_AM2 = (40.0, 80.0)
 """Each of the truss's four dipoles, rising along it (``open_hall``'s escalator)."""
 
@@ -299,7 +302,7 @@ class ImportedPlan:
 
     scenario: Scenario
     shops: int
-    """Shops kept as rooms."""
+    """Units kept as rooms (shops and escalators)."""
     slivers: tuple[str, ...]
     """Names of the shops dropped as slivers."""
     doorless: tuple[str, ...]
@@ -524,7 +527,15 @@ def import_ilc_floor(floor: IlcFloor, *, seed: int = 0, name: str | None = None)
     xmin, ymin, xmax, ymax = floor_m.bounds
     gx = np.arange(xmin + bay / 2, xmax, bay)
     gy = np.arange(ymin + bay / 2, ymax, bay)
-    inner_shops = unary_union([s.buffer(-(pillar / 2 + 0.3), join_style="mitre") for s in rooms])
+    # Escalators are voids through the storey, not shops: no column stands in one.
+    escalator = [_is_escalator(name, poly) for name, poly in zip(kept_names, rooms, strict=True)]
+    inner_shops = unary_union(
+        [
+            s.buffer(-(pillar / 2 + 0.3), join_style="mitre")
+            for s, esc in zip(rooms, escalator, strict=True)
+            if not esc
+        ]
+    )
     shapely.prepare(inner_shops)
     grid = np.array([(x, y) for y in gy for x in gx])
     at = grid[shapely.contains_xy(inner_shops, grid[:, 0], grid[:, 1])]
@@ -558,7 +569,6 @@ def import_ilc_floor(floor: IlcFloor, *, seed: int = 0, name: str | None = None)
     ok = (length >= _DOOR_MIN_M + 2 * _DOOR_JAMB_M) & (share >= _FRONT_SHARE)
     doors_at: list[tuple[float, float, float, NDArray[np.float64]] | None] = []
     doorless = []
-    escalator = [_is_escalator(name, poly) for name, poly in zip(kept_names, rooms, strict=True)]
     for s, shop_name in enumerate(kept_names):
         drawn = rng.uniform(*_DOOR_WIDTH_M)
         if escalator[s]:
@@ -690,12 +700,15 @@ def import_ilc_floor(floor: IlcFloor, *, seed: int = 0, name: str | None = None)
 
 def _is_escalator(name: str, poly: Polygon) -> bool:
     """Whether a plan unit is an escalator (the module docstring's rule)."""
-    if name != _NON_OPEN:
+    if name != _NON_OPEN or poly.area <= 0:
         return False
     length, width = _rectangle_sides(poly)
     return (
         _ESCALATOR_LENGTH_M[0] <= length <= _ESCALATOR_LENGTH_M[1]
         and _ESCALATOR_WIDTH_M[0] <= width <= _ESCALATOR_WIDTH_M[1]
+        # A strip, not an L or a ring that happens to fit the box (the MS floor's
+        # escalators fill 0.96–1 of theirs).
+        and poly.area >= _ESCALATOR_FILL * length * width
     )
 
 
@@ -713,6 +726,10 @@ def _escalator_truss(d: Draft, poly: Polygon, ceiling_m: float, rng: np.random.G
     corners = np.asarray(poly.minimum_rotated_rectangle.exterior.coords)[:4]
     edges = np.diff(np.vstack([corners, corners[:1]]), axis=0)
     long_edge = edges[int(np.argmax(np.linalg.norm(edges, axis=1)))]
+    # The two long sides point opposite ways and tie to rounding: fix the sign first,
+    # so the drawn end, not the geometry library's rounding, decides where it rises.
+    if long_edge[0] < -1e-9 or (abs(long_edge[0]) <= 1e-9 and long_edge[1] < 0):
+        long_edge = -long_edge
     centre = corners.mean(axis=0)
     rise = long_edge if rng.random() < 0.5 else -long_edge
     for t in np.linspace(-0.4, 0.4, 4):

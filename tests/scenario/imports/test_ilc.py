@@ -266,3 +266,14 @@ def test_ms_traces_become_routes_that_simulate(ms, ms_traces, tmp_path):
     start = np.asarray(result.scenario.routes[name].waypoints[0])
     truth = rec.truth[["x", "y"]].to_numpy()
     assert rec.duration > 3.0 and np.linalg.norm(truth[0] - start) < 1.0
+
+
+def test_an_l_shaped_non_open_area_is_not_an_escalator():
+    """Its enclosing rectangle fits an escalator's (10 m × 1.5 m) but it fills only 0.57
+    of it: it stays a unit with a door."""
+    plan = {
+        "A": [(0, 4), (8, 4), (8, 10), (0, 10)],
+        "feikaifangquyu": [(10, 6), (20, 6), (20, 7.5), (19, 7.5), (19, 6.7), (10, 6.7)],
+    }
+    imported = import_ilc_floor(parse_ilc_floor(plan_geojson(plan), INFO), seed=3)
+    assert imported.escalators == 0
