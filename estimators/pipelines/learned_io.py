@@ -38,7 +38,7 @@ never. No bundled scenario is used, so the leaderboard's buildings are unseen.
 Six phone models, four carrying modes with changes, the IMU at 50 Hz in 2 s
 windows every 1 s: 26 814 windows, 24 sites to train on, 3 to validate, 3 to
 test. Final losses (m²/s², mean of both velocity components): train 0.0274,
-val 0.0571, test 0.0218 — an RMS velocity error of about 0.15 m/s per axis on
+val 0.0590, test 0.0216 — an RMS velocity error of about 0.15 m/s per axis on
 the test buildings. Training is deterministic on CPU: the commands give the
 same ``weights.pt`` bytes for the same ``--threads`` and ``--workers`` (add
 ``--overwrite`` to retrain in place).
