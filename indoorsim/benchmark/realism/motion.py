@@ -43,6 +43,7 @@ The keys of the returned dict (NaN where a stream is missing or too short):
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -305,8 +306,45 @@ HELD_KEYS = MOTION_KEYS[-5:]
 HELD_MODE = "handheld"
 """The carrying mode whose phone is held top-forward: the only one they are judged in."""
 
-_HELD_WINDOW_S = 4.0
-_STEP_BAND_HZ = (1.3, 2.8)
+STEP_BAND_HZ = (1.3, 2.8)
+"""Where a window's step rate is looked for (its spectrum's peak), Hz."""
+
+
+class StepWindows:
+    """Hann-tapered windows of a walk's walking parts, 4 s long and half overlapping,
+    and the projection that reads an amplitude at one frequency off each.
+
+    A Hann taper: a reading at the stride rate must not pick up the step rate's
+    (stronger) sidelobes, 0.9 Hz away in a 4 s window. ``freqs`` are the bins of
+    the window's spectrum zero-padded eightfold (:meth:`spectrum`), where the step
+    rate's peak is found.
+    """
+
+    def __init__(self, rate_hz: float = MOTION_RATE_HZ, seconds: float = 4.0) -> None:
+        self.n = round(seconds * rate_hz)
+        self.t = np.arange(self.n) / rate_hz
+        self.taper = signal.windows.hann(self.n, sym=False)
+        self.gain = 2.0 / self.taper.sum()
+        self.freqs = np.fft.rfftfreq(8 * self.n, 1.0 / rate_hz)
+
+    def over(self, x: NDArray[np.float64], runs: list[slice]) -> Iterator[NDArray[np.float64]]:
+        """Each window of ``x`` (samples along axis 0) within ``runs``, less its mean,
+        tapered."""
+        n = self.n
+        taper = self.taper.reshape(-1, *[1] * (x.ndim - 1))
+        for run in runs:
+            for start in range(run.start, run.stop - n + 1, n // 2):
+                w = x[start : start + n] - x[start : start + n].mean(axis=0)
+                w *= taper
+                yield w
+
+    def spectrum(self, w: NDArray[np.float64]) -> NDArray[np.complex128]:
+        """A tapered window's spectrum, zero-padded eightfold, at :attr:`freqs`."""
+        return np.fft.rfft(w, 8 * self.n, axis=0)
+
+    def amplitude(self, w: NDArray[np.float64], hz: float) -> NDArray[np.float64]:
+        """The amplitude of each column of a tapered window at ``hz``, by projection."""
+        return self.gain * np.abs(np.exp(-2j * np.pi * hz * self.t) @ w)
 
 
 def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict[str, float]:
@@ -345,23 +383,14 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
             gyro[:, 2],
         ]
     )
-    n = round(_HELD_WINDOW_S * rate)
-    t = np.arange(n) / rate
-    # A Hann taper: the stride rate's reading must not pick up the step rate's
-    # (stronger) sidelobes, 0.9 Hz away in a 4 s window.
-    taper = signal.windows.hann(n, sym=False)
-    gain = 2.0 / taper.sum()
-    freqs = np.fft.rfftfreq(8 * n, 1.0 / rate)
-    band = (freqs > _STEP_BAND_HZ[0]) & (freqs < _STEP_BAND_HZ[1])
+    windows = StepWindows(rate)
+    band = (windows.freqs > STEP_BAND_HZ[0]) & (windows.freqs < STEP_BAND_HZ[1])
     rows = []
-    for run in sig.runs:
-        for start in range(run.start, run.stop - n + 1, n // 2):
-            w = levelled[start : start + n] - levelled[start : start + n].mean(axis=0)
-            w *= taper[:, None]
-            step_hz = freqs[band][np.argmax(np.abs(np.fft.rfft(w[:, 2], 8 * n))[band])]
-            at_step = gain * np.abs(np.exp(-2j * np.pi * step_hz * t) @ w)
-            at_stride = gain * np.abs(np.exp(-1j * np.pi * step_hz * t) @ w)
-            rows.append([at_step[0], at_stride[1], at_step[2], at_stride[3], at_step[1]])
+    for w in windows.over(levelled, sig.runs):
+        step_hz = windows.freqs[band][np.argmax(np.abs(windows.spectrum(w[:, 2]))[band])]
+        at_step = windows.amplitude(w, step_hz)
+        at_stride = windows.amplitude(w, step_hz / 2.0)
+        rows.append([at_step[0], at_stride[1], at_step[2], at_stride[3], at_step[1]])
     if rows:
         out.update(zip(HELD_KEYS, np.median(rows, axis=0).tolist(), strict=True))
     return out

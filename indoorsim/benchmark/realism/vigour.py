@@ -33,9 +33,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal
 
-from indoorsim.benchmark.realism.motion import MOTION_RATE_HZ, walking_signals
+from indoorsim.benchmark.realism.motion import (
+    MOTION_RATE_HZ,
+    STEP_BAND_HZ,
+    StepWindows,
+    walking_signals,
+)
 from indoorsim.benchmark.realism.stats import peak_frequency
 from indoorsim.io.recording import Recording
 from indoorsim.phone.specs import DeviceProfile
@@ -54,8 +58,6 @@ _SEEDS = (0, 1)
 _BOUNCE_RANGE = (0.2, 2.0)
 _HEEL_RANGE = (0.0, 10.0)
 _WIDTH_RANGE = (0.03, 0.5)
-_WINDOW_S = 4.0
-_STEP_BAND_HZ = (1.3, 2.8)
 FIGURES = ("acc_step_amplitude", "acc_harmonic_ratio", "acc_jolt_rms")
 """Names of :func:`vigour_powers`' three figures, as :func:`calibrate` records them."""
 _MIN_WINDOWS = 3
@@ -126,32 +128,24 @@ def vigour_powers(rec: Recording) -> tuple[float, float, float] | None:
     """
     rate = MOTION_RATE_HZ
     sig = walking_signals(rec, rate)
-    n = round(_WINDOW_S * rate)
-    t = np.arange(n) / rate
-    taper = signal.windows.hann(n, sym=False)
-    gain = 2.0 / taper.sum()
-    freqs = np.fft.rfftfreq(8 * n, 1.0 / rate)
+    windows = StepWindows(rate)
+    freqs = windows.freqs
     # One-sided: every bin but DC (and Nyquist) counts twice in the window's power.
     twice = np.where((freqs > 0) & (freqs < rate / 2), 2.0, 1.0)
     rows = []
-    for run in sig.runs:
-        for start in range(run.start, run.stop - n + 1, n // 2):
-            w = sig.norm[start : start + n] - sig.norm[start : start + n].mean()
-            w = w * taper
-            # Refined between bins: read off the line, the projections would leak.
-            power_spectrum = np.abs(np.fft.rfft(w, 8 * n)) ** 2
-            step_hz = peak_frequency(freqs, power_spectrum, _STEP_BAND_HZ)
-            first, second = (
-                gain * abs(np.exp(-2j * np.pi * k * step_hz * t) @ w) for k in (1.0, 2.0)
-            )
-            weighted = twice * power_spectrum
-            power = float(w @ w) / float(taper @ taper)  # the window's mean power
-            # From 5 Hz, or clear of the second harmonic's main lobe (±0.5 Hz in 4 s)
-            # where a fast cadence puts it higher.
-            low = max(_JOLT_BAND_HZ[0], 2.0 * step_hz + 0.75)
-            jolt_band = (freqs >= low) & (freqs <= _JOLT_BAND_HZ[1])
-            jolts = power * float(weighted[jolt_band].sum() / max(weighted.sum(), _TINY))
-            rows.append([first, second / max(first, _TINY), math.sqrt(jolts)])
+    for w in windows.over(sig.norm, sig.runs):
+        # Refined between bins: read off the line, the projections would leak.
+        power_spectrum = np.abs(windows.spectrum(w)) ** 2
+        step_hz = peak_frequency(freqs, power_spectrum, STEP_BAND_HZ)
+        first, second = (float(windows.amplitude(w, k * step_hz)) for k in (1.0, 2.0))
+        weighted = twice * power_spectrum
+        power = float(w @ w) / float(windows.taper @ windows.taper)  # the window's mean power
+        # From 5 Hz, or clear of the second harmonic's main lobe (±0.5 Hz in 4 s)
+        # where a fast cadence puts it higher.
+        low = max(_JOLT_BAND_HZ[0], 2.0 * step_hz + 0.75)
+        jolt_band = (freqs >= low) & (freqs <= _JOLT_BAND_HZ[1])
+        jolts = power * float(weighted[jolt_band].sum() / max(weighted.sum(), _TINY))
+        rows.append([first, second / max(first, _TINY), math.sqrt(jolts)])
     if len(rows) < _MIN_WINDOWS:
         return None
     first, harmonic, jolts = np.median(rows, axis=0)

@@ -510,6 +510,14 @@ class Draft:
             {"position": [mm(x), mm(y), mm(z)], "moment": [mm(round(v, 2)) for v in m]}
         )
 
+    def escalator_truss(self, x: float, y: float, dx: float, dy: float) -> None:
+        """An escalator's steel truss, centred at (``x``, ``y``) and running (``dx``,
+        ``dy``) from its foot to its head: four dipoles of 40–80 A·m² on its axis, at
+        0.1, 0.37, 0.63 and 0.9 of its length, each at the height of a truss rising
+        from 0.3 m over the floor to 0.3 m under the ceiling."""
+        for t in np.linspace(-0.4, 0.4, 4):
+            self.steel(x + t * dx, y + t * dy, 0.3 + (t + 0.5) * (self.h - 0.6), (40.0, 80.0))
+
     def lift(self, shaft: Cell) -> None:
         """A lift: car and counterweight at random heights, guide rails, and a
         machine-like obstacle filling the shaft so nobody walks inside it."""

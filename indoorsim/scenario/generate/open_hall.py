@@ -225,8 +225,7 @@ def build_open_hall(size: Size | None, seed: int) -> Scenario:
             }
         )
         d.obstacle_shapes.append(shape)
-        for t in np.linspace(-0.4, 0.4, 4):
-            d.steel(cx + t * esc_len, cy, 0.3 + (t + 0.5) * (h - 0.6), (40.0, 80.0))
+        d.escalator_truss(cx, cy, esc_len, 0.0)
         break
     # Kiosks inside the walkway ring.
     inside_ring = Cell(name="hall", kind="hall", x0=x0, y0=y0, x1=x1, y1=y1)

@@ -150,8 +150,6 @@ escalator: 1–1.6 m across its balustrades, 8–14 m of truss for a 4–6 m sto
 rising at 30° with its landings [E]."""
 _ESCALATOR_FILL = 0.8
 """...and fills at least this share of that rectangle."""
-_ESCALATOR_MOMENT_AM2 = (40.0, 80.0)
-"""Each of the truss's four dipoles, rising along it (``open_hall``'s escalator)."""
 
 # Owners of the two sides of a boundary stretch.
 _OUTSIDE, _PUBLIC = -2, -1
@@ -592,7 +590,7 @@ def import_ilc_floor(floor: IlcFloor, *, seed: int = 0, name: str | None = None)
 
     # -- escalators: a steel truss rising along each
     for poly in (r for r, esc in zip(rooms, escalator, strict=True) if esc):
-        _escalator_truss(d, poly, h, rng)
+        _escalator_truss(d, poly, rng)
 
     # -- lights: the open_hall's fixtures and spacings
     hall_light = d.fixture("downlight" if rng.random() < 0.5 else "panel")
@@ -719,10 +717,9 @@ def _rectangle_sides(poly: Polygon) -> tuple[float, float]:
     return float(sides.max()), float(sides.min())
 
 
-def _escalator_truss(d: Draft, poly: Polygon, ceiling_m: float, rng: np.random.Generator) -> None:
-    """Four dipoles on the escalator's long axis (at 0.1, 0.37, 0.63 and 0.9 of its
-    length), at the heights of a truss rising from 0.3 m over the floor at one end
-    (drawn) to 0.3 m under the ceiling at the other."""
+def _escalator_truss(d: Draft, poly: Polygon, rng: np.random.Generator) -> None:
+    """The escalator's truss (:meth:`Draft.escalator_truss`) on its long axis, rising
+    from one end (drawn) to the other."""
     corners = np.asarray(poly.minimum_rotated_rectangle.exterior.coords)[:4]
     edges = np.diff(np.vstack([corners, corners[:1]]), axis=0)
     long_edge = edges[int(np.argmax(np.linalg.norm(edges, axis=1)))]
@@ -730,11 +727,9 @@ def _escalator_truss(d: Draft, poly: Polygon, ceiling_m: float, rng: np.random.G
     # so the drawn end, not the geometry library's rounding, decides where it rises.
     if long_edge[0] < -1e-9 or (abs(long_edge[0]) <= 1e-9 and long_edge[1] < 0):
         long_edge = -long_edge
-    centre = corners.mean(axis=0)
-    rise = long_edge if rng.random() < 0.5 else -long_edge
-    for t in np.linspace(-0.4, 0.4, 4):
-        x, y = centre + t * rise
-        d.steel(float(x), float(y), 0.3 + (t + 0.5) * (ceiling_m - 0.6), _ESCALATOR_MOMENT_AM2)
+    x, y = corners.mean(axis=0)
+    dx, dy = long_edge if rng.random() < 0.5 else -long_edge
+    d.escalator_truss(float(x), float(y), float(dx), float(dy))
 
 
 # --------------------------------------------------------------------------- routes
