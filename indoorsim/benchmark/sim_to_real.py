@@ -17,6 +17,14 @@ mark (:func:`waypoint_lead`) — so a twin is marked the same way
 passes there. Otherwise the real/sim ratio would also measure the real truth's
 timing, which no estimator can follow.
 
+Each estimated track is also scored turned about its start by the rotation that
+lays it best on the marks (:func:`~indoorsim.benchmark.metrics.start_aligned_errors`),
+which splits an error into a heading held wrong through the trace and the
+track's shape; and each walk's long legs are read against its gyro
+(:mod:`~indoorsim.benchmark.realism.headings`), which says how straight the
+walker went from mark to mark — what a start heading taken from the first two
+marks relies on.
+
 **Step counts** (:func:`step_count_transfer`): the streaming peak–valley step
 detector (:class:`~indoorsim.estimators.pdr.steps.PeakStepDetector`, Han2023
 §2.1.1) has three settings — its low-pass cut-off, the shortest interval
@@ -47,12 +55,14 @@ from indoorsim.benchmark.evaluation import (
     WalkResult,
     evaluate_recording,
 )
+from indoorsim.benchmark.metrics import start_aligned_errors
 from indoorsim.benchmark.realism.calibrate import calibrate
+from indoorsim.benchmark.realism.headings import gyro_yaw_rate, leg_headings
 from indoorsim.benchmark.realism.magnetic import hard_iron_residual, magnetic_statistics
 from indoorsim.benchmark.realism.motion import HELD_KEYS, motion_statistics
 from indoorsim.benchmark.realism.reference import MODELLED_MODES
 from indoorsim.benchmark.realism.vigour import vigour_powers
-from indoorsim.estimators.frames import wrap_angle, yaw_rate
+from indoorsim.estimators.frames import wrap_angle
 from indoorsim.estimators.pdr.steps import PeakStepDetector
 from indoorsim.io.reallogs.ilc import read_ilc_trace
 from indoorsim.io.recording import Recording
@@ -388,15 +398,10 @@ def waypoint_lead(rec: Recording) -> NDArray[np.float64]:
     wp = rec.waypoints
     xy = wp[["x", "y"]].to_numpy(dtype=float)
     marks = wp.index.to_numpy(dtype=float)
-    t = rec.gyro.index.to_numpy(dtype=float)
-    accel = rec.accel
-    if len(xy) < 3 or len(t) < 10 or len(accel) < 2:
+    if len(xy) < 3 or len(rec.gyro) < 10 or len(rec.accel) < 2:
         return np.zeros(0)
+    t, rate = gyro_yaw_rate(rec)
     rate_hz = 1.0 / float(np.median(np.diff(t)))
-    t_acc = accel.index.to_numpy(dtype=float)
-    up = np.column_stack([np.interp(t, t_acc, accel[c].to_numpy(dtype=float)) for c in "xyz"])
-    up = uniform_filter1d(up, max(1, round(rate_hz)), axis=0)
-    rate = yaw_rate(rec.gyro[["x", "y", "z"]].to_numpy(dtype=float), up)
     rate = uniform_filter1d(rate, max(1, round(0.25 * rate_hz)))
     legs = np.diff(xy, axis=0)
     length = np.hypot(legs[:, 0], legs[:, 1])
@@ -458,7 +463,11 @@ def walk_signals(rec: Recording) -> dict[str, float]:
     (:func:`~indoorsim.benchmark.realism.magnetic.magnetic_statistics`), and the
     calibrated magnetometer's residual hard iron where the walk's turns show it
     (:func:`~indoorsim.benchmark.realism.magnetic.hard_iron_residual`), with the
-    spread of ‖m‖ once it is taken out (the whole spread where it cannot be told)."""
+    spread of ‖m‖ once it is taken out (the whole spread where it cannot be told); and
+    how straight the legs were walked, read from the gyro against the marks
+    (:func:`~indoorsim.benchmark.realism.headings.leg_headings`: the median over the
+    long legs of the marks' direction against the gyro's heading, in size, and of the
+    heading's swing within a leg)."""
     field = magnetic_statistics(rec)
     iron = hard_iron_residual(rec)
     iron_free = magnetic_statistics(rec, iron.offset_uT) if iron is not None else field
@@ -485,7 +494,19 @@ def walk_signals(rec: Recording) -> dict[str, float]:
             "mag_std_iron_free": iron_free["mag_std"],
             "lead": float(np.median(leads)) if len(leads := waypoint_lead(rec)) else float("nan"),
         }
+        | _straightness(rec)
     )
+
+
+def _straightness(rec: Recording) -> dict[str, float]:
+    legs = leg_headings(rec)
+    if legs is None:
+        return {"leg_marks": float("nan"), "leg_swing": float("nan")}
+    marks = np.abs(legs.marks_deg)
+    return {
+        "leg_marks": float(np.median(marks)) if np.isfinite(marks).all() else float("nan"),
+        "leg_swing": float(np.median(legs.swing_deg)),
+    }
 
 
 SIGNALS = {
@@ -506,16 +527,24 @@ SIGNALS = {
     "hard_iron": "the magnetometer's residual hard iron, where the turns show it (µT)",
     "mag_std_iron_free": "‖m‖ std along the path without it (µT)",
     "lead": "corner waypoints marked before the walker's turn (s)",
+    "leg_marks": "legs of 4 m or more: the marks' direction against the gyro's heading (°)",
+    "leg_swing": "legs of 4 m or more: the heading's swing within one, 2 s means (°)",
 }
 """The signal statistics the twin table compares (:func:`walk_signals`)."""
 
 
 def _scores(estimator: str, rec: Recording) -> dict[str, float]:
     result = evaluate_recording(estimator, rec, params=REAL_DATA_PARAMS.get(estimator))
+    e = result.estimates
+    aligned, turn = start_aligned_errors(
+        e[["x", "y"]].to_numpy(dtype=float), e[["true_x", "true_y"]].to_numpy(dtype=float)
+    )
     return {
         "ae": float(result.metrics["ae"]),
         "rmse": float(result.metrics["rmse"]),
         "path_ratio": _path_ratio(result),
+        "ae_aligned": float(aligned.mean()),
+        "turn_deg": turn,
     }
 
 
@@ -609,11 +638,17 @@ def twin_table(
 
 def twin_summary(table: pd.DataFrame) -> tuple[pd.DataFrame, float]:
     """Per estimator: mean error real and simulated, their ratio, the walked-distance
-    ratios; and Kendall's τ between the estimators' rankings on real and simulated data."""
+    ratios, the same errors once each track is turned about its start
+    (:func:`~indoorsim.benchmark.metrics.start_aligned_errors`) and the median size of
+    that turn; and Kendall's τ between the estimators' rankings on real and simulated
+    data."""
+    table = table.assign(turn_deg=table["turn_deg"].abs())
     per_trace = table.groupby(["estimator", "data", "trace"], sort=False)[
-        ["ae", "rmse", "path_ratio"]
+        ["ae", "rmse", "path_ratio", "ae_aligned", "turn_deg"]
     ].mean()
-    summary = per_trace.groupby(["estimator", "data"], sort=False).mean().unstack("data")
+    by_data = per_trace.groupby(["estimator", "data"], sort=False)
+    summary = by_data.mean().unstack("data")
+    turns = by_data["turn_deg"].median().unstack("data")
     out = pd.DataFrame(
         {
             "estimator": summary.index,
@@ -621,9 +656,14 @@ def twin_summary(table: pd.DataFrame) -> tuple[pd.DataFrame, float]:
             "ae_sim": summary[("ae", "sim")].to_numpy(),
             "path_ratio_real": summary[("path_ratio", "real")].to_numpy(),
             "path_ratio_sim": summary[("path_ratio", "sim")].to_numpy(),
+            "ae_aligned_real": summary[("ae_aligned", "real")].to_numpy(),
+            "ae_aligned_sim": summary[("ae_aligned", "sim")].to_numpy(),
+            "turn_real": turns["real"].reindex(summary.index).to_numpy(),
+            "turn_sim": turns["sim"].reindex(summary.index).to_numpy(),
         }
     )
     out["ratio"] = out["ae_real"] / out["ae_sim"]
+    out["aligned_ratio"] = out["ae_aligned_real"] / out["ae_aligned_sim"]
     tau = float(kendalltau(out["ae_real"], out["ae_sim"]).statistic) if len(out) > 1 else np.nan
     return out, tau
 
@@ -683,6 +723,25 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         "",
         f"Kendall's τ between the estimators' rankings on real and simulated data: {tau:.2f} "
         "(1: the same order).",
+        "",
+        "The same errors once each estimated track is turned about the start by the one "
+        "rotation that lays it best on the marks (least squares; "
+        "`indoorsim.benchmark.metrics.start_aligned_errors`): the turn is the track's "
+        "heading error held through the trace (its size, median over traces), what is "
+        "left is the error of its shape.",
+        "",
+        "| estimator | turn real (°) | turn sim (°) | error after it real (m) "
+        "| error after it sim (m) | real / sim |",
+        "|---|---|---|---|---|---|",
+    ]
+    for _, r in summary.iterrows():
+        inside = "" if 0.8 <= r["aligned_ratio"] <= 1.25 else " (outside 0.8–1.25)"
+        lines.append(
+            f"| {r['estimator']} | {r['turn_real']:.1f} | {r['turn_sim']:.1f} | "
+            f"{r['ae_aligned_real']:.2f} | {r['ae_aligned_sim']:.2f} | "
+            f"{r['aligned_ratio']:.2f}{inside} |"
+        )
+    lines += [
         "",
         "![real against simulated error per trace](sim_to_real.png)",
         "",

@@ -411,3 +411,31 @@ def test_metrics_never_import_the_simulator():
 def test_docstring_examples_run():
     result = doctest.testmod(metrics)
     assert result.attempted > 0 and result.failed == 0
+
+
+def test_a_track_on_a_wrong_heading_is_turned_back_about_the_start():
+    # The true walk: an L from (2, 1); the estimate walks its exact shape 17° turned
+    # counter-clockwise about the start, so turning it back 17° leaves no error.
+    true = np.array([[2.0, 1.0], [6.0, 1.0], [10.0, 1.0], [10.0, 5.0], [10.0, 9.0]])
+    th = math.radians(17.0)
+    rot = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
+    est = (true - true[0]) @ rot.T + true[0]
+    errors, turn = metrics.start_aligned_errors(est, true)
+    assert turn == pytest.approx(-17.0)
+    np.testing.assert_allclose(errors, 0.0, atol=1e-12)
+    # A track too short by a fifth keeps its shape error, and the turn is the same.
+    short = (est - true[0]) * 0.8 + true[0]
+    errors, turn = metrics.start_aligned_errors(short, true)
+    assert turn == pytest.approx(-17.0)
+    np.testing.assert_allclose(errors, 0.2 * np.linalg.norm(true - true[0], axis=1), atol=1e-12)
+    # Turning the whole scene changes nothing.
+    errors_turned, turn_turned = metrics.start_aligned_errors(short @ rot.T, true @ rot.T)
+    np.testing.assert_allclose(errors_turned, errors, atol=1e-12)
+    assert turn_turned == pytest.approx(turn)
+
+
+def test_a_track_that_never_leaves_the_start_is_not_turned():
+    true = np.array([[0.0, 0.0], [3.0, 4.0]])
+    errors, turn = metrics.start_aligned_errors(np.zeros((2, 2)), true)
+    assert turn == 0.0
+    np.testing.assert_allclose(errors, [0.0, 5.0])

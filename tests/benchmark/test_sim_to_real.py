@@ -165,6 +165,9 @@ def _scores() -> pd.DataFrame:
                     "ae": real,
                     "rmse": real,
                     "path_ratio": 1.0,
+                    "ae_aligned": real / 2,
+                    # Turned one way on one trace, the other way on the other.
+                    "turn_deg": 10.0 if trace == "t1" else -20.0,
                 }
             )
             for seed, jitter in ((0, -0.5), (1, 0.5)):
@@ -177,6 +180,8 @@ def _scores() -> pd.DataFrame:
                         "ae": sim + jitter,
                         "rmse": sim,
                         "path_ratio": 0.9,
+                        "ae_aligned": sim / 2 + jitter,
+                        "turn_deg": 4.0 * jitter,
                     }
                 )
     return pd.DataFrame(rows)
@@ -187,6 +192,10 @@ def test_the_summary_gives_each_estimators_real_to_sim_ratio_and_the_rank_agreem
     assert list(summary["ratio"].round(6)) == [2.0, 1.0, 0.8]
     assert tau == pytest.approx(1.0)  # the same order on both
     assert (summary["path_ratio_sim"] == 0.9).all()
+    # Once each track is turned about its start: the shapes' errors and the turns' sizes.
+    assert list(summary["aligned_ratio"].round(6)) == [2.0, 1.0, 0.8]
+    assert (summary["turn_real"] == 15.0).all()  # median of |10| and |−20|
+    assert (summary["turn_sim"] == 2.0).all()  # |∓2| averaged over seeds first
 
 
 def test_the_section_names_the_signals_on_which_the_twins_depart(tmp_path):
@@ -202,6 +211,7 @@ def test_the_section_names_the_signals_on_which_the_twins_depart(tmp_path):
     results = TwinResults(scores=_scores(), signals=pd.DataFrame(signals), left_out={})
     text = "\n".join(write_twin_section(tmp_path, results))
     assert "| a | 2.00 | 1.00 | 2.00 (outside 0.8–1.25) |" in text
+    assert "| a | 15.0 | 2.0 | 1.00 | 0.50 | 2.00 (outside 0.8–1.25) |" in text
     departs = next(line for line in text.splitlines() if line.startswith("Where the twins depart"))
     assert "‖a‖ std while walking (3.00)" in departs
     assert "rate of turn at the stride rate (0.50)" in departs
