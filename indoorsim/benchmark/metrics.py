@@ -163,33 +163,38 @@ def position_errors(est_xy: ArrayLike, true_xy: ArrayLike) -> NDArray[np.float64
 
 
 def start_aligned_errors(
-    est_xy: ArrayLike, true_xy: ArrayLike
+    est_xy: ArrayLike, true_xy: ArrayLike, start: ArrayLike
 ) -> tuple[NDArray[np.float64], float]:
-    """Position errors once the estimated track is turned about the true start, and the turn.
+    """Position errors once the estimated track is turned about its start, and the turn.
 
-    The turn θ that best lays the track on the truth about the first true point
-    p_0 (least squares, a pure rotation: the start is given, so no shift and no
-    scale) is θ = atan2(Σ a_i × b_i, Σ a_i · b_i) with a_i = p̂_i − p_0 and
-    b_i = p_i − p_0. What is left is the error of the track's shape; θ is its
-    heading's error held through the walk — an estimator that starts on a wrong
-    heading and is otherwise right reads θ = that heading's error and no error
-    after it. A track that never leaves the start has no direction (θ = 0).
+    The turn θ that best lays the track on the truth about the start p_0, where
+    the estimator was told it stood (least squares, a pure rotation: the start is
+    given, so no shift and no scale), is θ = atan2(Σ a_i × b_i, Σ a_i · b_i) with
+    a_i = p̂_i − p_0 and b_i = p_i − p_0. What is left is the error of the track's
+    shape; θ is its heading's error held through the walk — an estimator that
+    starts on a wrong heading and is otherwise right reads θ = minus that error and
+    no error after it. A track that never leaves the start has no direction (θ = 0).
 
     Args:
         est_xy: (N, 2) estimated positions, m.
         true_xy: (N, 2) true positions at the same instants, m.
+        start: (2,) the start position, m.
 
     Returns:
         (N,) errors of the turned track, m, and θ, degrees counter-clockwise.
 
     Example:
-        >>> errors, turn = start_aligned_errors([[0, 0], [0, 1], [0, 2]], [[0, 0], [1, 0], [2, 0]])
+        >>> errors, turn = start_aligned_errors([[0, 1], [0, 2]], [[1, 0], [2, 0]], [0, 0])
         >>> errors.round(12).tolist(), turn
-        ([0.0, 0.0, 0.0], -90.0)
+        ([0.0, 0.0], -90.0)
     """
     est, true = _paired_points(est_xy, true_xy)
-    a = est - true[0]
-    b = true - true[0]
+    p0 = np.asarray(start, dtype=float)
+    if p0.shape != (2,):
+        raise ValueError(f"start: expected one point (x, y), got shape {p0.shape}")
+    _check_finite(p0[None], "start")
+    a = est - p0
+    b = true - p0
     theta = math.atan2(float(np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])), float(np.sum(a * b)))
     c, s = math.cos(theta), math.sin(theta)
     turned = np.column_stack([c * a[:, 0] - s * a[:, 1], s * a[:, 0] + c * a[:, 1]])

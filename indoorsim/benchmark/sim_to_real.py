@@ -54,6 +54,7 @@ from indoorsim.benchmark.evaluation import (
     REAL_DATA_PARAMS,
     WalkResult,
     evaluate_recording,
+    start_info,
 )
 from indoorsim.benchmark.metrics import start_aligned_errors
 from indoorsim.benchmark.realism.calibrate import calibrate
@@ -537,7 +538,9 @@ def _scores(estimator: str, rec: Recording) -> dict[str, float]:
     result = evaluate_recording(estimator, rec, params=REAL_DATA_PARAMS.get(estimator))
     e = result.estimates
     aligned, turn = start_aligned_errors(
-        e[["x", "y"]].to_numpy(dtype=float), e[["true_x", "true_y"]].to_numpy(dtype=float)
+        e[["x", "y"]].to_numpy(dtype=float),
+        e[["true_x", "true_y"]].to_numpy(dtype=float),
+        start_info(rec).position,
     )
     return {
         "ae": float(result.metrics["ae"]),

@@ -420,22 +420,30 @@ def test_a_track_on_a_wrong_heading_is_turned_back_about_the_start():
     th = math.radians(17.0)
     rot = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
     est = (true - true[0]) @ rot.T + true[0]
-    errors, turn = metrics.start_aligned_errors(est, true)
+    errors, turn = metrics.start_aligned_errors(est[1:], true[1:], true[0])
     assert turn == pytest.approx(-17.0)
     np.testing.assert_allclose(errors, 0.0, atol=1e-12)
     # A track too short by a fifth keeps its shape error, and the turn is the same.
     short = (est - true[0]) * 0.8 + true[0]
-    errors, turn = metrics.start_aligned_errors(short, true)
+    errors, turn = metrics.start_aligned_errors(short[1:], true[1:], true[0])
     assert turn == pytest.approx(-17.0)
-    np.testing.assert_allclose(errors, 0.2 * np.linalg.norm(true - true[0], axis=1), atol=1e-12)
+    np.testing.assert_allclose(errors, 0.2 * np.linalg.norm(true[1:] - true[0], axis=1))
     # Turning the whole scene changes nothing.
-    errors_turned, turn_turned = metrics.start_aligned_errors(short @ rot.T, true @ rot.T)
+    errors_turned, turn_turned = metrics.start_aligned_errors(
+        short[1:] @ rot.T, true[1:] @ rot.T, true[0] @ rot.T
+    )
     np.testing.assert_allclose(errors_turned, errors, atol=1e-12)
     assert turn_turned == pytest.approx(turn)
 
 
 def test_a_track_that_never_leaves_the_start_is_not_turned():
-    true = np.array([[0.0, 0.0], [3.0, 4.0]])
-    errors, turn = metrics.start_aligned_errors(np.zeros((2, 2)), true)
+    errors, turn = metrics.start_aligned_errors(np.ones((2, 2)), [[1.0, 1.0], [4.0, 5.0]], [1, 1])
     assert turn == 0.0
     np.testing.assert_allclose(errors, [0.0, 5.0])
+
+
+def test_the_start_must_be_one_finite_point():
+    with pytest.raises(ValueError, match="start"):
+        metrics.start_aligned_errors([[1.0, 1.0]], [[1.0, 1.0]], [np.nan, 0.0])
+    with pytest.raises(ValueError):
+        metrics.start_aligned_errors([[1.0, 1.0]], [[1.0, 1.0]], [0.0, 0.0, 0.0])
