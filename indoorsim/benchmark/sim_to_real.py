@@ -749,10 +749,11 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         "![real against simulated error per trace](sim_to_real.png)",
         "",
         "What the phones felt between the first and the last waypoint (median over the "
-        "traces measured on both sides; twins: their seeds' mean per trace first):",
+        "traces measured on both sides, how many in the second column; twins: their "
+        "seeds' mean per trace first):",
         "",
-        "| signal | real | sim | real / sim |",
-        "|---|---|---|---|",
+        "| signal | traces | real | sim | real / sim |",
+        "|---|---|---|---|---|",
     ]
     per_trace = results.signals.groupby(["data", "trace"])[list(SIGNALS)].mean()
     apart = []
@@ -768,11 +769,11 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         if key == "mag_std_iron_free":
             both &= real_iron == sim_iron
         if not both.any():
-            lines.append(f"| {label} | n/a | n/a | n/a |")
+            lines.append(f"| {label} | 0 | n/a | n/a | n/a |")
             continue
         real = float(real_values[both].median())
         sim = float(sim_values[both].median())
-        lines.append(f"| {label} | {real:.3g} | {sim:.3g} | {real / sim:.2f} |")
+        lines.append(f"| {label} | {int(both.sum())} | {real:.3g} | {sim:.3g} | {real / sim:.2f} |")
         if not 0.8 <= real / sim <= 1.25:
             apart.append(f"{label.split(' (')[0]} ({real / sim:.2f})")
     lines.append("")

@@ -217,3 +217,9 @@ def test_the_section_names_the_signals_on_which_the_twins_depart(tmp_path):
     assert "rate of turn at the stride rate (0.50)" in departs
     assert "step rate" not in departs
     assert "residual hard iron" not in departs  # 10 against 10 on t2; t1's 3 is unpaired
+    # Each signal row says over how many traces its medians are.
+    assert "| ‖a‖ std while walking (m/s²) | 2 | 3 | 1 | 3.00 |" in text
+    iron = next(line for line in text.splitlines() if "residual hard iron" in line)
+    assert iron.startswith(
+        "| the magnetometer's residual hard iron, where the turns show it (µT) | 1 |"
+    )
