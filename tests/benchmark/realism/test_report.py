@@ -91,6 +91,29 @@ def test_compare_counts_the_sites_whose_median_lies_inside():
     assert "7 ✓" in text and "**5.5** ✗" in text
 
 
+def test_a_kind_of_several_buildings_is_judged_by_its_median_building():
+    # Three buildings of one kind, walked 4, 2 and 2 times: their medians are 1, 7 and
+    # 8, so the kind reads 7 (inside 6–9), with 1–8 beside it. The median of all eight
+    # walks (4) would weigh the much-walked building, not the kind's buildings.
+    real = pd.DataFrame({"mode": "handheld", "acc_p2p": [6.0, 9.0]})
+    sim = pd.DataFrame(
+        {
+            "site": ["k"] * 8 + ["one"] * 2,
+            "building": [0, 0, 0, 0, 1, 1, 2, 2, -1, -1],
+            "mode": "handheld",
+            "seed": [0, 1, 2, 3, 0, 1, 0, 1, 0, 1],
+            **{k: np.nan for k in MOTION_KEYS},
+        }
+    )
+    sim["acc_p2p"] = [1.0, 1.0, 1.0, 1.0, 7.0, 7.0, 8.0, 8.0, 5.0, 5.0]
+    table = compare(real, sim)
+    row = table[table["statistic"] == "acc_p2p"].iloc[0]
+    assert (row["k"], row["k low"], row["k high"]) == (7.0, 1.0, 8.0)
+    assert row["sites_inside"] == 1 and row["sites"] == 2
+    text = markdown(table, ["k", "one"])
+    assert "| 7 ✓ (1–8) | **5** ✗ |" in text  # one building: no spread
+
+
 @pytest.mark.skipif(not REALDATA.is_dir(), reason=f"no real data at {REALDATA}")
 def test_the_committed_real_table_is_what_the_real_logs_give():
     fresh = real_motion_table(REALDATA)
@@ -159,3 +182,19 @@ def test_the_environment_is_measured_on_each_sites_longest_route_and_reported(tm
     text = (tmp_path / "realism.md").read_text()
     assert "## Magnetic field" in text and "## WiFi" in text and "## Light" in text
     assert "han2023_corridor: trajectory" in text
+
+
+def test_a_generated_kind_is_walked_in_several_of_its_buildings():
+    config = RealismConfig(
+        bundled=(),
+        generated=(),
+        field_generated=(("office", 3),),
+        field_buildings=2,
+        field_building_walks=1,
+        seeds=(0, 1),
+    )
+    env = simulate_environment(config)
+    # Two buildings (the generator's seeds 3 and 4), one walk each, under one label.
+    assert list(env["building"]) == [3, 4] and list(env["seed"]) == [0, 0]
+    assert set(env["site"]) == {"generated office (2 buildings)"}
+    assert env["mag_std"].nunique() == 2  # two buildings, two fields
