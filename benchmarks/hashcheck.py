@@ -172,7 +172,8 @@ def imported() -> Iterator[tuple[str, str]]:
     real = realdata_dir()
     if not (real / "ms-indoor-location-2020" / "site1" / "F1" / "geojson_map.json").is_file():
         return
-    site, traces, _ = twin_site(real)
+    twins = twin_site(real)
+    site, traces = twins.site, twins.traces
     if not traces:
         return
     pts = _field_grid(site)

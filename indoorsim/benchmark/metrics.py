@@ -171,9 +171,11 @@ def start_aligned_errors(
     the estimator was told it stood (least squares, a pure rotation: the start is
     given, so no shift and no scale), is θ = atan2(Σ a_i × b_i, Σ a_i · b_i) with
     a_i = p̂_i − p_0 and b_i = p_i − p_0. What is left is the error of the track's
-    shape; θ is its heading's error held through the walk — an estimator that
-    starts on a wrong heading and is otherwise right reads θ = minus that error and
-    no error after it. A track that never leaves the start has no direction (θ = 0).
+    shape; θ is the correction of its heading — an estimator that starts δ off
+    (counter-clockwise) and is otherwise right reads θ = −δ and no error after it.
+    A heading that turns away along the walk is corrected by a share of that turn,
+    weighted by distance from the start. A track that never leaves the start has no
+    direction (θ = 0).
 
     Args:
         est_xy: (N, 2) estimated positions, m.

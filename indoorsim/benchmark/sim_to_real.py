@@ -84,6 +84,7 @@ __all__ = [
     "TWIN_ESTIMATORS",
     "StepWalk",
     "TwinResults",
+    "TwinSite",
     "as_real_log",
     "count_steps",
     "oxford_step_walks",
@@ -500,6 +501,8 @@ def walk_signals(rec: Recording) -> dict[str, float]:
 
 
 def _straightness(rec: Recording) -> dict[str, float]:
+    """The medians over a walk's long legs of :func:`leg_headings`' two readings (the
+    marks' direction against the gyro in size, and the heading's swing), degrees."""
     legs = leg_headings(rec)
     if legs is None:
         return {"leg_marks": float("nan"), "leg_swing": float("nan")}
@@ -551,9 +554,23 @@ def _scores(estimator: str, rec: Recording) -> dict[str, float]:
     }
 
 
-def twin_site(realdata: Path, *, seed: int = 0) -> tuple[Site, dict[str, Path], dict[str, str]]:
-    """The imported competition floor with one route per trace, the traces by route name,
-    and the traces left out (with why)."""
+@dataclass(frozen=True, kw_only=True)
+class TwinSite:
+    """:func:`twin_site`: the imported floor with a route per real trace."""
+
+    site: Site
+    traces: dict[str, Path]
+    """The real traces that have a route, by route name."""
+    left_out: dict[str, str]
+    """The traces without one, and why."""
+    marks: dict[str, NDArray[np.float64]]
+    """Each route's real waypoints as it walks through them, (K, 2): where a twin is
+    marked. A route also holds the points of its ways round walls, which no surveyor
+    marked."""
+
+
+def twin_site(realdata: Path, *, seed: int = 0) -> TwinSite:
+    """The imported competition floor with one route per trace."""
     floor_dir = realdata / ILC_FLOOR
     floor = read_ilc_floor(floor_dir / "geojson_map.json", floor_dir / "floor_info.json")
     imported = import_ilc_floor(floor, seed=seed)
@@ -564,8 +581,12 @@ def twin_site(realdata: Path, *, seed: int = 0) -> tuple[Site, dict[str, Path], 
         xy = wp[["x", "y"]].to_numpy(dtype=float)
         traces[name] = (xy.tolist(), waypoint_speed(xy, wp.index.to_numpy(dtype=float)))
     routes = add_trace_routes(imported, traces)
-    kept = {name: paths[name] for name in routes.kept}
-    return load_site(routes.scenario), kept, routes.left_out
+    return TwinSite(
+        site=load_site(routes.scenario),
+        traces={name: paths[name] for name in routes.kept},
+        left_out=routes.left_out,
+        marks={name: np.asarray(xy, dtype=float) for name, xy in routes.marks.items()},
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -573,7 +594,8 @@ class TwinResults:
     """:func:`twin_table`'s tables."""
 
     scores: pd.DataFrame
-    """One row per (trace, estimator, data ``real``/``sim``, seed): ae, rmse, path_ratio."""
+    """One row per (trace, estimator, data ``real``/``sim``, seed): ae, rmse, path_ratio,
+    ae_aligned and turn_deg (:func:`~indoorsim.benchmark.metrics.start_aligned_errors`)."""
     signals: pd.DataFrame
     """One row per (trace, data, seed): :func:`walk_signals`."""
     left_out: dict[str, str]
@@ -603,8 +625,9 @@ def twin_table(
     """
     if progress:
         progress("sim-to-real: importing the floor")
-    site, traces, left_out = twin_site(realdata)
-    reals = {name: Recording.load(path) for name, path in traces.items()}
+    twins = twin_site(realdata)
+    site, left_out = twins.site, twins.left_out
+    reals = {name: Recording.load(path) for name, path in twins.traces.items()}
     # How the real surveyors marked their corners: the twins are marked the same way.
     leads = np.concatenate([waypoint_lead(rec) for rec in reals.values()])
     lead = float(np.median(leads)) if len(leads) else 0.0
@@ -612,7 +635,7 @@ def twin_table(
     signals: list[dict] = []
     for name, real in reals.items():
         cal = calibrate(real, name=f"twin of {name}", base=TWIN_BASE_DEVICE, mode=TWIN_MODE)
-        waypoints = np.asarray(site.scenario.routes[name].waypoints, dtype=float)
+        waypoints = twins.marks[name]
         for est in estimators:
             if progress:
                 progress(f"sim-to-real {name} {est} real")
@@ -729,9 +752,10 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         "",
         "The same errors once each estimated track is turned about the start by the one "
         "rotation that lays it best on the marks (least squares; "
-        "`indoorsim.benchmark.metrics.start_aligned_errors`): the turn is the track's "
-        "heading error held through the trace (its size, median over traces), what is "
-        "left is the error of its shape.",
+        "`indoorsim.benchmark.metrics.start_aligned_errors`): the turn corrects a "
+        "heading held wrong from the start, and a share of one that turned away along "
+        "the trace (its size, median over traces); what is left is the error of the "
+        "track's shape.",
         "",
         "| estimator | turn real (°) | turn sim (°) | error after it real (m) "
         "| error after it sim (m) | real / sim |",

@@ -2,8 +2,9 @@
 
 A real trace's truth is a surveyor's marks; between two marks nothing says
 where the walker went. The gyro does: integrated about gravity it gives the
-phone's heading up to one unknown offset and its slow drift. So, per leg
-between consecutive waypoints:
+phone's heading up to one unknown offset (and its slow drift, which no offset
+takes out and which both sides of a comparison carry). So, per leg between
+consecutive waypoints:
 
 * the **marks' direction against the gyro** — each leg's direction on the map
   less the gyro's heading along it, after the one offset per walk that fits
@@ -13,10 +14,15 @@ between consecutive waypoints:
 * the **heading's swing within the leg** — the peak-to-peak of the gyro's
   heading, averaged over 2 s (a stride's sway averages out), along the leg.
 
-Both are read on the middle of each leg (:data:`LEG_SPAN` of its time), clear
-of the corner turns at either end, and only on legs of :data:`MIN_LEG_M` or
-more, whose direction two marks a metre off still give to about 10°. The same
-functions read real traces and simulated twins.
+Both are read on the part of each leg clear of its corners: from
+:data:`TURN_CLEAR_S` after the leg's first mark (a real mark comes about a second
+before its walker turns, and the turn takes a second or two) to its last mark
+(the next turn begins about there), on legs of :data:`MIN_LEG_M` or more whose
+clear part is at least :data:`MIN_SPAN_S` long, and within the gyro's record.
+The swing is of 2 s means whose whole window lies in that part, so no corner
+leaks into it. With one offset per walk fitted, a walk of two legs reads plus
+and minus half their disagreement. The same functions read real traces and
+simulated twins.
 """
 
 from __future__ import annotations
@@ -25,20 +31,30 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.integrate import cumulative_trapezoid
 from scipy.ndimage import uniform_filter1d
 
 from indoorsim.estimators.frames import wrap_angle, yaw_rate
 from indoorsim.io.recording import Recording
 
-__all__ = ["LEG_SPAN", "MIN_LEG_M", "LegHeadings", "gyro_yaw_rate", "leg_headings"]
+__all__ = [
+    "MIN_LEG_M",
+    "MIN_SPAN_S",
+    "TURN_CLEAR_S",
+    "LegHeadings",
+    "gyro_yaw_rate",
+    "leg_headings",
+]
 
 MIN_LEG_M = 4.0
 """Legs between waypoints at least this long are read, m."""
-LEG_SPAN = (0.3, 0.8)
-"""The part of each leg's time whose heading is read: past the turn at its start (a
-mark comes about a second before its walker turns) and before the next."""
+TURN_CLEAR_S = 3.0
+"""A leg is read from this long after its first mark, s: clear of the corner turn that
+mark announces (centred about 1 s after it, 1–2 s long)."""
 HEADING_MEAN_S = 2.0
 """The heading's swing is of its means over this long, s: about a stride's two steps."""
+MIN_SPAN_S = 2 * HEADING_MEAN_S
+"""A leg's clear part must be at least this long to be read, s."""
 
 
 @dataclass(frozen=True)
@@ -50,22 +66,30 @@ class LegHeadings:
     length_m: NDArray[np.float64]
     """Each leg's length between its marks, m."""
     marks_deg: NDArray[np.float64]
-    """The marks' direction less the gyro's heading along the leg, after the walk's one
-    best offset, degrees; NaN for a walk of fewer than two legs read."""
+    """The marks' direction less the gyro's median heading along the leg's clear part,
+    after the walk's one best offset, degrees; NaN for a walk of fewer than two legs
+    read."""
     swing_deg: NDArray[np.float64]
-    """Peak-to-peak of the heading's :data:`HEADING_MEAN_S` means along the leg, degrees."""
+    """Peak-to-peak of the heading's :data:`HEADING_MEAN_S` means within the leg's clear
+    part, degrees."""
 
 
 def gyro_yaw_rate(rec: Recording) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The gyro's rate of turn about gravity (the accelerometer's 1 s mean), at the
-    gyro's times: (t, rate), rad/s, counter-clockwise seen from above."""
+    gyro's times: (t, rate), rad/s, counter-clockwise seen from above. A sample the
+    gyro or the accelerometer reports as non-finite is bridged by the rate either
+    side of it."""
     t = rec.gyro.index.to_numpy(dtype=float)
     rate_hz = 1.0 / float(np.median(np.diff(t)))
     accel = rec.accel
     t_acc = accel.index.to_numpy(dtype=float)
     up = np.column_stack([np.interp(t, t_acc, accel[c].to_numpy(dtype=float)) for c in "xyz"])
     up = uniform_filter1d(up, max(1, round(rate_hz)), axis=0)
-    return t, yaw_rate(rec.gyro[["x", "y", "z"]].to_numpy(dtype=float), up)
+    rate = yaw_rate(rec.gyro[["x", "y", "z"]].to_numpy(dtype=float), up)
+    finite = np.isfinite(rate)
+    if not finite.all() and finite.any():
+        rate = np.interp(t, t[finite], rate[finite])
+    return t, rate
 
 
 def leg_headings(rec: Recording) -> LegHeadings | None:
@@ -80,24 +104,27 @@ def leg_headings(rec: Recording) -> LegHeadings | None:
     if len(xy) < 2 or len(rec.gyro) < 10 or len(rec.accel) < 2:
         return None
     t, rate = gyro_yaw_rate(rec)
-    heading = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
-    rate_hz = 1.0 / float(np.median(np.diff(t)))
-    smooth = uniform_filter1d(heading, max(1, round(HEADING_MEAN_S * rate_hz)))
+    if not np.isfinite(rate).all():
+        return None  # no finite sample to bridge from
+    heading = cumulative_trapezoid(rate, t, initial=0.0)
+    window = max(1, round(HEADING_MEAN_S / float(np.median(np.diff(t)))))
     legs, lengths, marked, walked, swings = [], [], [], [], []
     for i in range(len(xy) - 1):
         d = xy[i + 1] - xy[i]
         length = float(np.hypot(d[0], d[1]))
-        start, end = marks[i], marks[i + 1]
-        span = (t >= start + LEG_SPAN[0] * (end - start)) & (
-            t <= start + LEG_SPAN[1] * (end - start)
-        )
-        if length < MIN_LEG_M or span.sum() < 10:
+        start, end = marks[i] + TURN_CLEAR_S, marks[i + 1]
+        if length < MIN_LEG_M or end - start < MIN_SPAN_S or start < t[0] or end > t[-1]:
             continue
+        part = heading[(t >= start) & (t <= end)]
+        if len(part) < window + 1:
+            continue
+        # Means over whole windows inside the part only: none reaches a corner.
+        means = np.convolve(part, np.full(window, 1.0 / window), mode="valid")
         legs.append(i)
         lengths.append(length)
         marked.append(np.arctan2(d[1], d[0]))
-        walked.append(float(np.median(heading[span])))
-        swings.append(float(np.ptp(smooth[span])))
+        walked.append(float(np.median(part)))
+        swings.append(float(np.ptp(means)))
     if not legs:
         return None
     apart = wrap_angle(np.asarray(marked) - np.asarray(walked))

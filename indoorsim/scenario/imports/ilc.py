@@ -758,6 +758,10 @@ class RouteImport:
     """Trace name → notes (waypoints moved, and by how much); empty when unchanged."""
     left_out: dict[str, str]
     """Trace name → why it is not a route."""
+    marks: dict[str, list[list[float]]] = field(default_factory=dict)
+    """Trace name → its own waypoints as the route walks through them (moved into the
+    public space, repeats dropped): the route's waypoints less the points of its ways
+    round walls, so a simulated walk can be marked where the real one was."""
 
 
 def _through(leg: LineString, room_polys: list[tuple[str, Polygon]]) -> str:
@@ -801,6 +805,7 @@ def add_trace_routes(
     routes: dict[str, dict[str, Any]] = {}
     kept: dict[str, list[str]] = {}
     left_out: dict[str, str] = {}
+    marks: dict[str, list[list[float]]] = {}
     for trace, (waypoints, speed) in traces.items():
         xy = np.asarray(waypoints, dtype=float).reshape(-1, 2)
         if len(xy):
@@ -882,7 +887,8 @@ def add_trace_routes(
                 continue
         routes[trace] = {"waypoints": pts.tolist(), "speed": mm(speed)}
         kept[trace] = notes
+        marks[trace] = xy.tolist()
     data = scenario_to_dict(base)
     data["routes"] = {**data["routes"], **routes}
     scenario = parse_scenario(data, source=f"{base.name} with trace routes")
-    return RouteImport(scenario=scenario, kept=kept, left_out=left_out)
+    return RouteImport(scenario=scenario, kept=kept, left_out=left_out, marks=marks)

@@ -14,7 +14,7 @@ from indoorsim.io.recording import Recording
 RATE_HZ = 100.0
 
 
-def _walk(marks_xy, marks_t, turns, wander=(0.0, 0.1), seconds=60.0):
+def _walk(marks_xy, marks_t, turns, wander=(0.0, 0.1), seconds=60.0, bump=None):
     """A level phone turning the route's corners: each turn a 2 s raised-cosine pulse
     of the rate of turn centred 1 s after its mark, plus a slow sinusoidal wander of
     the heading (amplitude rad, frequency Hz)."""
@@ -25,6 +25,12 @@ def _walk(marks_xy, marks_t, turns, wander=(0.0, 0.1), seconds=60.0):
         rate[pulse] += angle / 2.0 * (1 + np.cos(np.pi * (t[pulse] - at - 1.0)))
     amplitude, freq = wander
     rate += amplitude * 2 * np.pi * freq * np.cos(2 * np.pi * freq * t)
+    if bump is not None:  # (start, seconds, angle): a brief glance aside and back
+        at, length, angle = bump
+        out = (t >= at) & (t < at + 0.5)
+        back = (t >= at + length - 0.5) & (t < at + length)
+        rate[out] += angle / 0.5
+        rate[back] -= angle / 0.5
     index = pd.Index(t, name="t")
     zero = np.zeros_like(t)
     streams = {
@@ -88,3 +94,52 @@ def test_a_walk_without_marks_or_gyro_is_not_read():
     rec = _walk(MARKS, TIMES, TURNS)
     streams = {k: v for k, v in rec.streams.items() if k != "gyro"}
     assert leg_headings(Recording._from_built(streams, {})) is None
+
+
+def test_a_map_turned_half_round_is_one_offset_whatever_side_of_180_it_falls():
+    # The map turned 178° against the gyro, and the corner marked 2 m off as above: the
+    # two legs' disagreements straddle ±180°, whose plain mean would be near 0.
+    turn = math.radians(178.0)
+    rot = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
+    marks = np.array([[0.0, 0.0], [20.0, 2.0], [20.0, 20.0]]) @ rot.T
+    legs = leg_headings(_walk(marks, TIMES, TURNS))
+    half = math.degrees(math.atan2(2.0, 20.0)) / 2
+    np.testing.assert_allclose(legs.marks_deg, [half, -half], atol=0.05)
+
+
+def test_a_glance_aside_swings_the_heading_but_does_not_move_the_legs_direction():
+    # 20° aside for 1.5 s in the middle of the first leg: the median heading stays on
+    # the leg (a mean would move 1.7°); the swing sees the glance through its 2 s means:
+    # 20°·1 s of turning aside (0.5 s out, 0.5 s held, 0.5 s back) over 2 s is 10°.
+    legs = leg_headings(_walk(MARKS, TIMES, TURNS, bump=(10.0, 1.5, math.radians(20.0))))
+    np.testing.assert_allclose(legs.marks_deg, 0.0, atol=0.05)
+    assert legs.swing_deg[0] == pytest.approx(10.0, rel=0.02)
+    assert legs.swing_deg[1] == pytest.approx(0.0, abs=0.05)
+
+
+def test_a_short_legs_corners_do_not_leak_into_its_swing():
+    # A square of 8 m legs at 1 m/s: each leg's clear part (5 s) lies between its
+    # corners' turns, so straight legs swing not at all; 5 m legs are too short to read.
+    square = [[0.0, 0.0], [8.0, 0.0], [8.0, 8.0], [0.0, 8.0], [0.0, 0.0]]
+    times = [0.0, 8.0, 16.0, 24.0, 32.0]
+    turns = [(8.0, math.pi / 2), (16.0, math.pi / 2), (24.0, math.pi / 2)]
+    legs = leg_headings(_walk(square, times, turns, seconds=40.0))
+    np.testing.assert_array_equal(legs.leg, [0, 1, 2, 3])
+    np.testing.assert_allclose(legs.swing_deg, 0.0, atol=0.05)
+    np.testing.assert_allclose(legs.marks_deg, 0.0, atol=0.05)
+    small = [[x * 5 / 8, y * 5 / 8] for x, y in square]
+    fives = [(5.0 * k, math.pi / 2) for k in (1, 2, 3)]
+    assert leg_headings(_walk(small, [0.0, 5.0, 10.0, 15.0, 20.0], fives, seconds=25.0)) is None
+
+
+def test_a_leg_past_the_gyros_record_is_not_read_and_a_gyro_dropout_is_bridged():
+    # The last mark 40 s after the gyro stops: that leg is left out.
+    rec = _walk(MARKS, [0.0, 20.0, 100.0], TURNS)
+    legs = leg_headings(rec)
+    assert list(legs.leg) == [0] and np.isnan(legs.marks_deg).all()
+    # A NaN in the gyro during a straight stretch: bridged, nothing changes.
+    rec = _walk(MARKS, TIMES, TURNS)
+    rec.gyro.iloc[1500, 2] = np.nan
+    legs = leg_headings(rec)
+    np.testing.assert_allclose(legs.marks_deg, 0.0, atol=0.05)
+    np.testing.assert_allclose(legs.swing_deg, 0.0, atol=0.05)

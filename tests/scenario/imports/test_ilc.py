@@ -122,6 +122,7 @@ def test_routes_nudge_a_waypoint_out_of_a_shop_or_leave_the_trace_out(two_shops)
     # The shopfront's face is 0.05 m below y = 4; the waypoint goes 0.1 m further.
     assert routes["nudged"].waypoints[0] == pytest.approx((1.0, 3.85), abs=1e-3)
     assert result.kept["nudged"] == ["waypoint 0 moved 0.65 m out of shop 'A'"]
+    assert result.marks["nudged"][0] == pytest.approx([1.0, 3.85], abs=1e-3)  # where walked
     assert "in shop 'A'" in result.left_out["deep"] and "more than 1 m" in result.left_out["deep"]
     assert "outside (0.1, 3]" in result.left_out["too_fast"]
     assert set(routes) == {"clean", "nudged"}
@@ -152,6 +153,8 @@ def test_a_leg_through_a_shop_is_walked_round_it_or_left_out():
     assert result.kept["through"][0].startswith(where + ": walked round it, ")
     kiosk = Polygon(shops["kiosk"])
     assert not LineString(pts).intersects(kiosk)
+    # The trace's own marks are the two a surveyor made, not the way round's corners.
+    assert result.marks == {"through": [[9.0, 2.2], [14.0, 2.2]]}
 
 
 def test_waypoint_speed_is_path_length_over_time():
