@@ -549,7 +549,7 @@ def _scores(estimator: str, rec: Recording) -> dict[str, float]:
         "ae": float(result.metrics["ae"]),
         "rmse": float(result.metrics["rmse"]),
         "path_ratio": _path_ratio(result),
-        "ae_aligned": float(aligned.mean()),
+        "ae_aligned": float(aligned.mean()) if len(aligned) else float("nan"),
         "turn_deg": turn,
     }
 
