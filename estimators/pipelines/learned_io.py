@@ -119,9 +119,20 @@ class LearnedIO:
             standing walker has no direction).
         frame_offset: ``"site"`` turns the network's magnetic-world velocity
             into the building frame with the site's north and declination;
-            ``"start"`` instead turns the episode's first confident velocity
-            (speed ≥ ``min_speed_mps``) onto the known start heading — for
-            real logs whose map is not tied to north.
+            ``"start"`` instead turns the way first walked onto the known start
+            heading — for real logs whose map is not tied to north. The way
+            first walked is the sum of the predicted displacements of the
+            windows at walking speed (``align_speed_mps``) until it is
+            ``align_distance_m`` long (0: the first such window); the track
+            walked until then is turned with it, about the start.
+        align_speed_mps: a window counts as walked from this predicted speed (and
+            from ``min_speed_mps``): a standing phone turned and shaken in the
+            hand reads a few tenths of a metre per second in any direction, and
+            one real surveyor's did, which set one network's frame 80° off for
+            a whole trace.
+        align_distance_m: how far the way first walked must reach before it sets
+            the frame. Longer averages more windows, but a first leg shorter than
+            it bends the way round its corner.
         magnetic_tau_s: None takes each window's heading from the rotation
             vector as it is. A number holds it on the integrated gyro instead,
             pulled toward the rotation vector's with this time constant (s):
@@ -141,12 +152,19 @@ class LearnedIO:
     checkpoint: str | None = None
     min_speed_mps: float = 0.1
     frame_offset: str = "site"
+    align_speed_mps: float = 0.5
+    align_distance_m: float = 0.0
     magnetic_tau_s: float | None = None
 
     _net: Checkpoint | None = field(default=None, init=False, repr=False, compare=False)
     _to_building: float = field(default=0.0, init=False, repr=False, compare=False)
     _site_offset: float = field(default=0.0, init=False, repr=False, compare=False)
     _align_pending: bool = field(default=False, init=False, repr=False, compare=False)
+    # The way first walked (unaligned frame) and where the walk started.
+    _align_sum: NDArray[np.float64] = field(
+        default_factory=lambda: np.zeros(2), init=False, repr=False, compare=False
+    )
+    _start: NDArray[np.float64] | None = field(default=None, init=False, repr=False, compare=False)
     _resample: bool = field(default=False, init=False, repr=False, compare=False)
     _position: NDArray[np.float64] | None = field(
         default=None, init=False, repr=False, compare=False
@@ -180,6 +198,11 @@ class LearnedIO:
     def __post_init__(self) -> None:
         if self.frame_offset not in ("site", "start"):
             raise ValueError(f"frame_offset must be 'site' or 'start', got {self.frame_offset!r}")
+        if not (self.align_speed_mps >= 0 and self.align_distance_m >= 0):
+            raise ValueError(
+                "align_speed_mps and align_distance_m must be >= 0, got "
+                f"{self.align_speed_mps!r} and {self.align_distance_m!r}"
+            )
         if self.magnetic_tau_s is not None and not self.magnetic_tau_s > 0:
             raise ValueError(
                 f"magnetic_tau_s must be positive or None, got {self.magnetic_tau_s!r}"
@@ -201,6 +224,8 @@ class LearnedIO:
 
     def reset(self, start: StartInfo) -> None:
         self._position = np.array(start.position, dtype=float)
+        self._start = self._position.copy()
+        self._align_sum = np.zeros(2)
         self._heading = float(start.heading)
         self._t_done = float(start.t0)
         self._to_building = self._site_offset
@@ -252,19 +277,35 @@ class LearnedIO:
         if self._net.frame == "gravity_aligned":
             angle += self._game_to_world_yaw(obs, valid)
         angle -= disturbance
-        if self._align_pending and np.hypot(v[0], v[1]) >= self.min_speed_mps:
-            # The first confident velocity defines the map's rotation.
-            shift = float(wrap_angle(self._heading - math.atan2(v[1], v[0]) - angle))
-            self._to_building += shift
-            angle += shift
-            self._align_pending = False
         c, s = math.cos(angle), math.sin(angle)
         v = np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
-        self._position += v * (float(t[-1]) - self._t_done)
+        dt = float(t[-1]) - self._t_done
+        self._position += v * dt
         self._t_done = float(t[-1])
-        if np.hypot(v[0], v[1]) >= self.min_speed_mps:
+        if self._align_pending:
+            v = self._align(v, dt)
+        if not self._align_pending and np.hypot(v[0], v[1]) >= self.min_speed_mps:
             self._heading = float(wrap_angle(math.atan2(v[1], v[0])))
         return self._position.copy()
+
+    def _align(self, v: NDArray[np.float64], dt: float) -> NDArray[np.float64]:
+        """Add this window to the way first walked if it is at walking speed; once that way
+        is long enough, turn it onto the start heading — the frame, and the track walked
+        so far about the start. Returns the window's velocity in the frame now in use."""
+        if float(np.hypot(v[0], v[1])) < max(self.align_speed_mps, self.min_speed_mps):
+            return v
+        self._align_sum += v * dt
+        way = self._align_sum
+        if np.hypot(way[0], way[1]) < self.align_distance_m:
+            return v
+        # The heading still holds the start's: it is not updated until aligned.
+        shift = float(wrap_angle(self._heading - math.atan2(way[1], way[0])))
+        self._to_building += shift
+        c, s = math.cos(shift), math.sin(shift)
+        turn = np.array([[c, -s], [s, c]])
+        self._position = self._start + turn @ (self._position - self._start)
+        self._align_pending = False
+        return turn @ v
 
     def _attitude(self, obs: Observation, valid: NDArray[np.bool_]) -> NDArray | None:
         """The quaternions that rotate the window into the checkpoint's frame, or None."""

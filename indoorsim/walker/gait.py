@@ -174,6 +174,14 @@ class WalkerParams:
     """Standing still before the first step, as real recordings begin."""
     stand_end_s: float = 3.0
     """Standing still after the last step."""
+    start_turn_deg: float = 0.0
+    """How far the walker stands turned from the route's first leg before setting off
+    (counter-clockwise positive, deg): it turns on the spot toward the leg over the
+    last ``start_turn_s`` of ``stand_start_s``. Real surveyors often stand a little
+    turned and face their way only as they start; ``indoorsim calibrate`` measures it
+    from a recording's gyro."""
+    start_turn_s: float = 1.5
+    """How long that turn takes, s (at most ``stand_start_s``)."""
     stop_rate_per_min: float = 0.0
     """Mean number of mid-walk stops per minute of walking (Poisson)."""
     stop_duration_s: tuple[float, float] = (2.0, 6.0)
@@ -240,6 +248,8 @@ class WalkerParams:
             "asymmetry": -0.5 < self.asymmetry < 0.5,
             "stand_start_s": self.stand_start_s >= 0,
             "stand_end_s": self.stand_end_s >= 0,
+            "start_turn_deg": -180.0 <= self.start_turn_deg <= 180.0,
+            "start_turn_s": self.start_turn_s > 0,
             "stop_rate_per_min": self.stop_rate_per_min >= 0,
             "stop_duration_s": 0 < self.stop_duration_s[0] <= self.stop_duration_s[1],
             "max_yaw_rate_dps": self.max_yaw_rate_dps > 0,
@@ -417,6 +427,11 @@ def walk(
     phase = timeline.phase(t)
     env = timeline.envelope(t)
     heading = path.heading(timeline.distance(t)) + timeline.pivot_heading(t)
+    turn_s = min(params.start_turn_s, params.stand_start_s)
+    if params.start_turn_deg and turn_s > 0:
+        # Standing turned, then turning on the spot to face the first leg.
+        done = smootherstep((t - (params.stand_start_s - turn_s)) / turn_s)
+        heading = heading + math.radians(params.start_turn_deg) * (1.0 - done)
     stride = np.mod((phase - (1.0 if first_left else 0.0)) / 2.0, 1.0)
     steps = timeline.steps()
     leg = PELVIS_HEIGHT_RATIO * height

@@ -97,3 +97,19 @@ def test_a_weave_is_zero_at_a_turn_on_the_spot(corridor):
     assert body.pos[far, 0] == pytest.approx(20.0, abs=0.05)
     assert body.pos[far, 1] == pytest.approx(1.5, abs=0.05)
     assert_inside(corridor, body)
+
+
+def test_a_walker_standing_turned_faces_its_way_before_the_first_step(corridor):
+    route = plan_route(corridor, RouteSpec(waypoints=[(1.0, 1.5), (20.0, 1.5)]))
+    params = WalkerParams(stand_start_s=3.0, start_turn_deg=30.0, start_turn_s=1.5)
+    body = walk(corridor, route, params, np.random.default_rng(4))
+    plain = walk(corridor, route, WalkerParams(stand_start_s=3.0), np.random.default_rng(4))
+    standing = body.t < 3.0
+    # Turned 30° left until 1.5 s before setting off, then on the spot to face +x.
+    np.testing.assert_allclose(np.degrees(body.heading[body.t <= 1.5]), 30.0, atol=1e-9)
+    assert np.degrees(body.heading[np.searchsorted(body.t, 2.25)]) == pytest.approx(15.0, abs=0.1)
+    np.testing.assert_allclose(body.heading[~standing], plain.heading[~standing], atol=1e-12)
+    # Turning on the spot: the body does not move, and the walk is the same walk.
+    np.testing.assert_allclose(body.pos, plain.pos, atol=1e-12)
+    with pytest.raises(ValueError, match="start_turn_s"):
+        WalkerParams(start_turn_s=0.0)

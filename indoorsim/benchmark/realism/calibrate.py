@@ -33,8 +33,10 @@ simulated one, so a simulated recording with known parameters checks the fit:
   waypoints (their path length over the time walked between the first and the
   last), the step length (speed over step rate), the height that gives that
   step length at that speed in the gait model
-  (:func:`~indoorsim.walker.gait.step_length_m`), and how long the walker
-  stood before the first step and after the last; and, given the carrying mode,
+  (:func:`~indoorsim.walker.gait.step_length_m`), how long the walker
+  stood before the first step and after the last, and how far it turned while
+  standing before the first (the gyro's turn about gravity; from
+  :data:`START_TURN_MIN_DEG`); and, given the carrying mode,
   its vigour (the pelvis's bounce, its loading peak and the heel-strike jolts),
   fitted so that a straight walk in that mode shows the recording's ‖a‖ at the
   step rate, its second harmonic and what lies off the stride's lines
@@ -63,10 +65,12 @@ import yaml
 from numpy.typing import NDArray
 from scipy.signal import welch
 
+from indoorsim.benchmark.realism.headings import gyro_yaw_rate
 from indoorsim.benchmark.realism.magnetic import HARD_IRON_MIN_ARC_DEG, hard_iron_residual
 from indoorsim.benchmark.realism.motion import walking_signals
 from indoorsim.benchmark.realism.stats import long_runs, moving_std, peak_frequency
 from indoorsim.benchmark.realism.vigour import FIGURES, VigourError, fit_vigour, single_mode
+from indoorsim.estimators.pdr.steps import PeakStepDetector
 from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import get_device
 from indoorsim.phone.specs import DeviceProfile, device_from_dict, device_to_dict
@@ -189,6 +193,28 @@ def _still_runs(
     return [values[a:b] for a, b in zip(edges[::2], edges[1::2], strict=True) if b - a >= 16]
 
 
+START_TURN_MIN_DEG = 5.0
+"""A standing turn smaller than this is not fitted (deg): a calibrated gyro's leftover
+bias turns a standing phone by a degree or two over a few seconds."""
+
+
+def _standing_turn(rec: Recording) -> float | None:
+    """How far the walker stood turned from where it set off, deg counter-clockwise: minus
+    the gyro's turn about gravity from the recording's start to its first step (the
+    peak–valley step detector's); None without a gyro, a step or a standing start."""
+    if "gyro" not in rec.streams or len(rec.gyro) < 10 or len(rec.accel) < 2:
+        return None
+    t_acc = rec.accel.index.to_numpy(dtype=float)
+    steps = PeakStepDetector().update(t_acc, rec.accel[["x", "y", "z"]].to_numpy(dtype=float))
+    if not steps:
+        return None
+    t, rate = gyro_yaw_rate(rec)
+    standing = t <= steps[0].t
+    if standing.sum() < 2:
+        return None
+    return -math.degrees(float(np.trapezoid(rate[standing], t[standing])))
+
+
 def _walker(rec: Recording, measured: dict[str, float], not_measured: dict[str, str]) -> dict:
     """Walker fields the recording shows (see the module docstring)."""
     sig = walking_signals(rec)
@@ -203,6 +229,12 @@ def _walker(rec: Recording, measured: dict[str, float], not_measured: dict[str, 
     t0 = float(rec.accel.index[0])
     fields["stand_start_s"] = round(float(walk_idx[0] / rate), 2)
     fields["stand_end_s"] = round(float((len(sig.walking) - 1 - walk_idx[-1]) / rate), 2)
+    turn = _standing_turn(rec)
+    if turn is not None:
+        measured["start_turn_deg"] = turn
+        if abs(turn) >= START_TURN_MIN_DEG and fields["stand_start_s"] > 0:
+            fields["start_turn_deg"] = round(turn, 1)
+            fields["start_turn_s"] = fields["stand_start_s"]
     if "waypoints" not in rec.streams or len(rec.waypoints) < 2:
         not_measured["speed_mps"] = "no waypoints: the walking speed is not shown"
         not_measured["height_m"] = "no waypoints: the step length is not shown"

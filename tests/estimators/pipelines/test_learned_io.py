@@ -465,3 +465,64 @@ def test_the_held_heading_ignores_a_pull_on_the_rotation_vector(tau_s, gyro_pres
     held = tau_s is not None and gyro_present
     np.testing.assert_allclose(turned[[4, 5, 6]], 0.0 if held else 15.0, atol=1e-4)
     np.testing.assert_allclose(turned[[2, 3, 7, 8, 9]], 0.0, atol=1e-4)
+
+
+def _aligning(**params) -> LearnedIO:
+    est = LearnedIO(frame_offset="start", **params)
+    est._net = Checkpoint(
+        model=_MeanPush(), meta={"frame": "world", "imu_rate_hz": 50.0, "window_samples": 50}
+    )
+    est.reset(StartInfo(position=np.zeros(2), heading=0.0, t0=0.0))
+    return est
+
+
+def _fidget_then_walk(est: LearnedIO) -> list[tuple[np.ndarray, float]]:
+    """One 1 s window of a standing phone read as 0.3 m/s toward 60°, then three of
+    walking at 1 m/s toward +y, level and unturned; (position, heading) after each."""
+    t = np.arange(200) / 50.0
+    fidget = 0.3 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
+    push = np.tile([0.0, 1.0, 9.81], (200, 1))
+    push[:50, :2] = fidget
+    out = []
+    for k in range(0, 200, 50):
+        s = slice(k, k + 50)
+        est.act(_obs(t[s], push[s], np.zeros((50, 3)), _yaw(np.zeros(50))))
+        out.append((est._position.copy(), est.heading))
+    return out
+
+
+def test_the_start_heading_is_set_by_the_way_first_walked_not_by_a_fidget():
+    # The fidget (0.3 m/s) is under walking speed: it moves the track but does not
+    # count. After 2 m walked toward +y that way is turned onto the start heading (+x,
+    # a turn of −90°), and so is everything walked since the start.
+    steps = _fidget_then_walk(_aligning(align_distance_m=2.0))
+    fidget = 0.3 * 0.98 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
+    assert [h for _, h in steps[:2]] == [0.0, 0.0]  # held at the start's until aligned
+    before = fidget + np.array([0.0, 2.0])
+    turned = np.array([before[1], -before[0]])  # −90° about the start
+    np.testing.assert_allclose(steps[2][0], turned, atol=1e-9)
+    np.testing.assert_allclose(steps[3][0], turned + np.array([1.0, 0.0]), atol=1e-9)
+    assert steps[3][1] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_by_default_the_first_window_at_walking_speed_sets_the_heading():
+    # The first walking window (toward +y) is turned onto +x at once: the fidget before it
+    # turned with it, and every window after heads +x.
+    steps = _fidget_then_walk(_aligning())
+    assert steps[0][1] == 0.0
+    for _, heading in steps[1:]:
+        assert heading == pytest.approx(0.0, abs=1e-6)  # float32 network
+    fidget = 0.3 * 0.98 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
+    np.testing.assert_allclose(steps[1][0], [1.0 + fidget[1], -fidget[0]], atol=1e-6)
+
+
+def test_without_a_walking_speed_the_first_confident_window_sets_the_heading():
+    # align_speed_mps 0: the fidget, the first window at min_speed_mps, is taken as the
+    # way walked (the old rule): the walk that follows comes out 30° off (90° − 60°).
+    steps = _fidget_then_walk(_aligning(align_speed_mps=0.0))
+    assert steps[3][1] == pytest.approx(math.radians(30.0), abs=1e-6)  # float32 network
+
+
+def test_alignment_settings_must_not_be_negative():
+    with pytest.raises(ValueError, match="align_speed_mps"):
+        LearnedIO(align_distance_m=-1.0)
