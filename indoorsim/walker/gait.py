@@ -147,18 +147,6 @@ class WalkerParams:
     speed_mps: float | None = None
     """Cruising speed; None takes the route's. Usual outdoor pace is 1.31 m/s
     (Murtagh et al. 2021); indoors 1.0–1.3 m/s."""
-    meander_deg: float = 0.0
-    """RMS of the slow weave of the walking direction about the route's line, deg: a
-    pedestrian steers toward where the route goes, and the line walked wanders a
-    few centimetres to a decimetre either side of it (0: straight from corner to
-    corner). The weave is tapered to nothing within ``meander_taper_m`` of the
-    start, the end and each turn on the spot."""
-    meander_correlation_m: float = 1.5
-    """Length scale of the weave along the path: the σ of the Gaussian that smooths
-    white noise into its sideways offset, m (its heading swings over 5–10 m)."""
-    meander_taper_m: float = 2.0
-    """Distance over which the weave fades in after the start and each turn on the
-    spot, and out before the end, m."""
     speed_cv: float = 0.03
     """Slow fluctuation of the cruising speed along the route (CV) [E]."""
     speed_correlation_m: float = 15.0
@@ -238,9 +226,6 @@ class WalkerParams:
         checks = {
             "height_m": 1.0 <= self.height_m <= 2.3,
             "speed_mps": self.speed_mps is None or 0.1 < self.speed_mps <= 3.0,
-            "meander_deg": 0 <= self.meander_deg <= 15,
-            "meander_correlation_m": self.meander_correlation_m > 0,
-            "meander_taper_m": self.meander_taper_m > 0,
             "speed_cv": 0 <= self.speed_cv <= 0.3,
             "speed_correlation_m": self.speed_correlation_m > 0,
             "step_length_cv": 0 <= self.step_length_cv <= 0.1,
@@ -381,10 +366,7 @@ def walk(
         turn_steps_per_90deg=params.turn_steps_per_90deg,
         pivot_turn_deg=params.pivot_turn_deg,
         clearance_m=params.wall_distance_m,
-    )
-    if params.meander_deg > 0:
-        path = path.offset_laterally(*_meander(path, params, rng))
-    path = path.keep_off_walls(plan, params.wall_distance_m)
+    ).keep_off_walls(plan, params.wall_distance_m)
     dwells = _dwells(path, params, v_cruise, omega_lim, rng)
     speed_factor = _speed_fluctuation(path.length, params, rng)
     first_left = bool(rng.random() < 0.5)
@@ -521,31 +503,6 @@ def _dwells(
             out.append(_Dwell(s=float(s), duration=float(dur)))
             taken.append(float(s))
     return sorted(out, key=lambda d: d.s)
-
-
-_MEANDER_DS_M = 0.05
-"""Spacing of the weave's knots along the path, m."""
-
-
-def _meander(
-    path: SmoothPath, params: WalkerParams, rng: np.random.Generator
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Knots (distance, sideways offset) of the weave about the path: white noise
-    smoothed by a Gaussian of ``meander_correlation_m``, scaled so that the slope
-    (the walking direction's departure, rad) has RMS ``meander_deg``, and tapered
-    (sin²) to 0 at the ends and at each turn on the spot."""
-    n = max(2, math.ceil(path.length / _MEANDER_DS_M) + 1)
-    s = np.linspace(0.0, path.length, n)
-    for p, _ in path.pivots:  # a turn on the spot is a knot, where the offset is 0
-        s[np.clip(round(p / path.length * (n - 1)), 1, n - 2)] = p
-    sigma = params.meander_correlation_m / _MEANDER_DS_M
-    pad = math.ceil(4 * sigma)
-    noise = gaussian_filter1d(rng.standard_normal(n + 2 * pad), sigma)[pad:-pad]
-    slope_rms = float(np.sqrt(np.mean(np.gradient(noise, _MEANDER_DS_M) ** 2)))
-    y = noise * (math.radians(params.meander_deg) / slope_rms if slope_rms > 0 else 0.0)
-    ends = np.array([0.0, path.length, *(p for p, _ in path.pivots)])
-    reach = np.min(np.abs(s[:, None] - ends[None, :]), axis=1) / params.meander_taper_m
-    return s, y * np.sin(0.5 * math.pi * np.clip(reach, 0.0, 1.0)) ** 2
 
 
 def _speed_fluctuation(

@@ -181,34 +181,7 @@ class SmoothPath:
             _smooth_pushes(watch[maybe[near]], away * scale[:, None], sigma, offset)
         if not offset.any():
             return self
-        return self._moved(s, base, base + offset)
-
-    def offset_laterally(self, s: NDArray[np.float64], y: NDArray[np.float64]) -> SmoothPath:
-        """This path with each point at distance ``s`` moved ``y`` to its left (m, negative
-        to the right), square to its heading: the line a walker weaves along it.
-
-        ``y`` must be 0 at the turns on the spot (a standing turn swings the left
-        side round) and small against the curves' radii. Headings turn by the
-        angle the offset adds to the path's direction.
-        """
-        s = np.asarray(s, dtype=float)
-        y = np.asarray(y, dtype=float)
-        if not y.any():
-            return self
-        # The direction walked: the heading plus the turns on the spot made before.
-        theta = self.heading(s)
-        for at, turn in self.pivots:
-            theta = theta + np.where(s > at, turn, 0.0)
-        base = self.position(s)
-        left = np.column_stack([-np.sin(theta), np.cos(theta)])
-        return self._moved(s, base, base + y[:, None] * left)
-
-    def _moved(
-        self, s: NDArray[np.float64], base: NDArray[np.float64], moved: NDArray[np.float64]
-    ) -> SmoothPath:
-        """The path through ``moved``, the points at distances ``s`` of this one moved
-        (knots every few centimetres): new distances, and the headings turned as the
-        chords are."""
+        moved = base + offset
         d_old, d_new = np.diff(base, axis=0), np.diff(moved, axis=0)
         s_new = cumsum0(np.linalg.norm(d_new, axis=1))
         # How far the push turns each chord, averaged onto the knots (chords,
