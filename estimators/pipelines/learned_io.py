@@ -70,7 +70,8 @@ the network never mixes frames.
 
 It exposes ``heading``: the direction of the latest predicted velocity in the
 building frame (held while the predicted speed is below ``min_speed_mps``;
-the start heading before the first prediction).
+the start heading before the first prediction and, with ``frame_offset="start"``,
+until the way first walked sets the frame).
 """
 
 from __future__ import annotations
@@ -105,6 +106,9 @@ __all__ = ["LearnedIO"]
 _SAME_RATE = 1e-6
 # A longer interval between gyro samples is a gap the gyro's turn is not known across, s.
 _GYRO_GAP_S = 0.25
+_ALIGN_FALLBACK_S = 10.0
+"""With ``frame_offset="start"``, how long the predictions may move (at ``min_speed_mps``)
+without reaching walking speed before their own way sets the frame, s."""
 
 
 @register("learned-io")
@@ -123,8 +127,9 @@ class LearnedIO:
             heading — for real logs whose map is not tied to north. The way
             first walked is the sum of the predicted displacements of the
             windows at walking speed (``align_speed_mps``) until it is
-            ``align_distance_m`` long (0: the first such window); the track
-            walked until then is turned with it, about the start.
+            ``align_distance_m`` long (0: the first such window); until then
+            the estimate holds the start, and the track walked meanwhile is
+            turned into place with the frame.
         align_speed_mps: a window counts as walked from this predicted speed (and
             from ``min_speed_mps``): a standing phone turned and shaken in the
             hand reads a few tenths of a metre per second in any direction, and
@@ -226,6 +231,8 @@ class LearnedIO:
         self._position = np.array(start.position, dtype=float)
         self._start = self._position.copy()
         self._align_sum = np.zeros(2)
+        self._slow_sum = np.zeros(2)
+        self._slow_s = 0.0
         self._heading = float(start.heading)
         self._t_done = float(start.t0)
         self._to_building = self._site_offset
@@ -284,19 +291,33 @@ class LearnedIO:
         self._t_done = float(t[-1])
         if self._align_pending:
             v = self._align(v, dt)
-        if not self._align_pending and np.hypot(v[0], v[1]) >= self.min_speed_mps:
+        if self._align_pending:
+            # No frame yet: the start is the best answer (the track so far is turned
+            # into place once the frame is set).
+            return self._start.copy()
+        if np.hypot(v[0], v[1]) >= self.min_speed_mps:
             self._heading = float(wrap_angle(math.atan2(v[1], v[0])))
         return self._position.copy()
 
     def _align(self, v: NDArray[np.float64], dt: float) -> NDArray[np.float64]:
         """Add this window to the way first walked if it is at walking speed; once that way
         is long enough, turn it onto the start heading — the frame, and the track walked
-        so far about the start. Returns the window's velocity in the frame now in use."""
-        if float(np.hypot(v[0], v[1])) < max(self.align_speed_mps, self.min_speed_mps):
+        so far about the start. A walk whose predictions never reach walking speed is
+        aligned on its windows at ``min_speed_mps`` once they add up to
+        :data:`_ALIGN_FALLBACK_S`. Returns the window's velocity in the frame now in use."""
+        speed = float(np.hypot(v[0], v[1]))
+        if not speed >= self.min_speed_mps:  # NaN too
             return v
-        self._align_sum += v * dt
-        way = self._align_sum
-        if np.hypot(way[0], way[1]) < self.align_distance_m:
+        self._slow_sum += v * dt
+        self._slow_s += dt
+        if speed >= self.align_speed_mps:
+            self._align_sum += v * dt
+            way = self._align_sum
+            if np.hypot(way[0], way[1]) < self.align_distance_m or not way.any():
+                return v
+        elif self._slow_s >= _ALIGN_FALLBACK_S and self._slow_sum.any():
+            way = self._slow_sum
+        else:
             return v
         # The heading still holds the start's: it is not updated until aligned.
         shift = float(wrap_angle(self._heading - math.atan2(way[1], way[0])))

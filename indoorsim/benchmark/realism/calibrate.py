@@ -201,7 +201,11 @@ bias turns a standing phone by a degree or two over a few seconds."""
 def _standing_turn(rec: Recording) -> float | None:
     """How far the walker stood turned from where it set off, deg counter-clockwise: minus
     the gyro's turn about gravity from the recording's start to its first step (the
-    peak–valley step detector's); None without a gyro, a step or a standing start."""
+    peak–valley step detector's, which may come a second after walking starts, so a
+    degree or two of the walking phone's sway is in it; the walking mask that gives
+    ``stand_start_s`` starts early on a phone handled while standing, and would miss
+    half of such a turn); None without a gyro, a step or a standing start. The twin
+    makes the turn over its whole standing time."""
     if "gyro" not in rec.streams or len(rec.gyro) < 10 or len(rec.accel) < 2:
         return None
     t_acc = rec.accel.index.to_numpy(dtype=float)

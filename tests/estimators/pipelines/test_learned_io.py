@@ -467,42 +467,56 @@ def test_the_held_heading_ignores_a_pull_on_the_rotation_vector(tau_s, gyro_pres
     np.testing.assert_allclose(turned[[2, 3, 7, 8, 9]], 0.0, atol=1e-4)
 
 
+START = np.array([5.0, -3.0])
+
+
 def _aligning(**params) -> LearnedIO:
     est = LearnedIO(frame_offset="start", **params)
     est._net = Checkpoint(
         model=_MeanPush(), meta={"frame": "world", "imu_rate_hz": 50.0, "window_samples": 50}
     )
-    est.reset(StartInfo(position=np.zeros(2), heading=0.0, t0=0.0))
+    est.reset(StartInfo(position=START.copy(), heading=0.0, t0=0.0))
     return est
 
 
-def _fidget_then_walk(est: LearnedIO) -> list[tuple[np.ndarray, float]]:
+def _fidget_then_walk(est: LearnedIO, second=(0.0, 1.0)) -> list[tuple[np.ndarray, float]]:
     """One 1 s window of a standing phone read as 0.3 m/s toward 60°, then three of
-    walking at 1 m/s toward +y, level and unturned; (position, heading) after each."""
+    walking at 1 m/s, the first toward +y and the others toward ``second``, level and
+    unturned; what the estimator returns, and its heading, after each."""
     t = np.arange(200) / 50.0
     fidget = 0.3 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
     push = np.tile([0.0, 1.0, 9.81], (200, 1))
     push[:50, :2] = fidget
+    push[100:, :2] = second
     out = []
     for k in range(0, 200, 50):
         s = slice(k, k + 50)
-        est.act(_obs(t[s], push[s], np.zeros((50, 3)), _yaw(np.zeros(50))))
-        out.append((est._position.copy(), est.heading))
+        position = est.act(_obs(t[s], push[s], np.zeros((50, 3)), _yaw(np.zeros(50))))
+        out.append((position, est.heading))
     return out
 
 
+def _turned(vector: np.ndarray, degrees: float) -> np.ndarray:
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    return np.array([c * vector[0] - s * vector[1], s * vector[0] + c * vector[1]])
+
+
 def test_the_start_heading_is_set_by_the_way_first_walked_not_by_a_fidget():
-    # The fidget (0.3 m/s) is under walking speed: it moves the track but does not
-    # count. After 2 m walked toward +y that way is turned onto the start heading (+x,
-    # a turn of −90°), and so is everything walked since the start.
-    steps = _fidget_then_walk(_aligning(align_distance_m=2.0))
+    # The fidget (0.3 m/s) is under walking speed: it does not count. The way first
+    # walked is 1 m toward +y and then 1 m toward +x: 1.41 m toward 45°, turned onto the
+    # start heading (+x) by −45°, and so is everything walked since the start, about
+    # the start. Until then the estimate holds the start.
+    steps = _fidget_then_walk(_aligning(align_distance_m=1.4), second=(1.0, 0.0))
     fidget = 0.3 * 0.98 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
-    assert [h for _, h in steps[:2]] == [0.0, 0.0]  # held at the start's until aligned
-    before = fidget + np.array([0.0, 2.0])
-    turned = np.array([before[1], -before[0]])  # −90° about the start
-    np.testing.assert_allclose(steps[2][0], turned, atol=1e-9)
-    np.testing.assert_allclose(steps[3][0], turned + np.array([1.0, 0.0]), atol=1e-9)
-    assert steps[3][1] == pytest.approx(0.0, abs=1e-12)
+    for position, heading in steps[:2]:
+        np.testing.assert_array_equal(position, START)
+        assert heading == 0.0
+    walked = fidget + np.array([1.0, 1.0])
+    np.testing.assert_allclose(steps[2][0], START + _turned(walked, -45.0), atol=1e-6)
+    np.testing.assert_allclose(
+        steps[3][0], START + _turned(walked + np.array([1.0, 0.0]), -45.0), atol=1e-6
+    )
+    assert steps[3][1] == pytest.approx(math.radians(-45.0), abs=1e-6)
 
 
 def test_by_default_the_first_window_at_walking_speed_sets_the_heading():
@@ -513,7 +527,8 @@ def test_by_default_the_first_window_at_walking_speed_sets_the_heading():
     for _, heading in steps[1:]:
         assert heading == pytest.approx(0.0, abs=1e-6)  # float32 network
     fidget = 0.3 * 0.98 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
-    np.testing.assert_allclose(steps[1][0], [1.0 + fidget[1], -fidget[0]], atol=1e-6)
+    walked = fidget + np.array([0.0, 1.0])
+    np.testing.assert_allclose(steps[1][0], START + _turned(walked, -90.0), atol=1e-6)
 
 
 def test_without_a_walking_speed_the_first_confident_window_sets_the_heading():
@@ -526,3 +541,23 @@ def test_without_a_walking_speed_the_first_confident_window_sets_the_heading():
 def test_alignment_settings_must_not_be_negative():
     with pytest.raises(ValueError, match="align_speed_mps"):
         LearnedIO(align_distance_m=-1.0)
+
+
+def test_a_walk_that_never_reaches_walking_speed_is_aligned_on_its_own_way():
+    # 0.3 m/s toward +y for 12 s: under walking speed throughout, so after 10 s of it
+    # the way it went (+y) sets the frame, turned onto the start heading (+x).
+    est = _aligning()
+    t = np.arange(600) / 50.0
+    push = np.tile([0.0, 0.3, 9.81], (600, 1))
+    for k in range(0, 600, 50):
+        s = slice(k, k + 50)
+        position = est.act(_obs(t[s], push[s], np.zeros((50, 3)), _yaw(np.zeros(50))))
+    assert not est._align_pending
+    assert est.heading == pytest.approx(0.0, abs=1e-6)
+    np.testing.assert_allclose(position, START + np.array([0.3 * t[-1], 0.0]), atol=1e-5)
+
+
+def test_a_nan_prediction_does_not_set_the_frame():
+    est = _aligning()
+    assert np.array_equal(est._align(np.array([np.nan, 1.0]), 1.0), [np.nan, 1.0], equal_nan=True)
+    assert est._align_pending and not est._slow_s
