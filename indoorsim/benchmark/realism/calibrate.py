@@ -34,7 +34,8 @@ simulated one, so a simulated recording with known parameters checks the fit:
   last), the step length (speed over step rate), the height that gives that
   step length at that speed in the gait model
   (:func:`~indoorsim.walker.gait.step_length_m`), how long the walker
-  stood before the first step and after the last, and how far it turned while
+  stood before the first step (the peak–valley detector's first step less
+  :data:`FIRST_STEP_LAG_S`) and after the last, and how far it turned while
   standing before the first (the gyro's turn about gravity; from
   :data:`START_TURN_MIN_DEG`); and, given the carrying mode,
   its vigour (the pelvis's bounce, its loading peak and the heel-strike jolts),
@@ -198,22 +199,28 @@ START_TURN_MIN_DEG = 5.0
 bias turns a standing phone by a degree or two over a few seconds."""
 
 
-def _standing_turn(rec: Recording) -> float | None:
+FIRST_STEP_LAG_S = 1.0
+"""How long after the walker sets off the peak–valley detector finds its first step, s:
+about 0.8 s to the first heel strike, and the detector's peak after it (1.02–1.06 s
+on simulated walks that stood 3–8 s first)."""
+
+
+def _first_step(rec: Recording) -> float | None:
+    """Time of the peak–valley step detector's first step, or None if it finds none."""
+    t = rec.accel.index.to_numpy(dtype=float)
+    steps = PeakStepDetector().update(t, rec.accel[["x", "y", "z"]].to_numpy(dtype=float))
+    return float(steps[0].t) if steps else None
+
+
+def _standing_turn(rec: Recording, first_step: float) -> float | None:
     """How far the walker stood turned from where it set off, deg counter-clockwise: minus
-    the gyro's turn about gravity from the recording's start to its first step (the
-    peak–valley step detector's, which may come a second after walking starts, so a
-    degree or two of the walking phone's sway is in it; the walking mask that gives
-    ``stand_start_s`` starts early on a phone handled while standing, and would miss
-    half of such a turn); None without a gyro, a step or a standing start. The twin
-    makes the turn over its whole standing time."""
-    if "gyro" not in rec.streams or len(rec.gyro) < 10 or len(rec.accel) < 2:
-        return None
-    t_acc = rec.accel.index.to_numpy(dtype=float)
-    steps = PeakStepDetector().update(t_acc, rec.accel[["x", "y", "z"]].to_numpy(dtype=float))
-    if not steps:
+    the gyro's turn about gravity from the recording's start to its first step (so a
+    degree or two of the first second's walking sway is in it); None without a gyro
+    or a standing start. The twin makes the turn over its whole standing time."""
+    if "gyro" not in rec.streams or len(rec.gyro) < 10:
         return None
     t, rate = gyro_yaw_rate(rec)
-    standing = t <= steps[0].t
+    standing = t <= first_step
     if standing.sum() < 2:
         return None
     return -math.degrees(float(np.trapezoid(rate[standing], t[standing])))
@@ -231,9 +238,14 @@ def _walker(rec: Recording, measured: dict[str, float], not_measured: dict[str, 
     measured["step_rate_hz"] = step_hz
     walk_idx = np.flatnonzero(sig.walking)
     t0 = float(rec.accel.index[0])
-    fields["stand_start_s"] = round(float(walk_idx[0] / rate), 2)
+    # Standing before the first step: from the step detector, less its lag. The
+    # walking mask (a moving spread of ‖a‖) reads a real phone handled in a standing
+    # surveyor's hand as walking, and a walk's first second as standing.
+    first_step = _first_step(rec)
+    standing = walk_idx[0] / rate if first_step is None else first_step - t0 - FIRST_STEP_LAG_S
+    fields["stand_start_s"] = round(float(max(0.0, standing)), 2)
     fields["stand_end_s"] = round(float((len(sig.walking) - 1 - walk_idx[-1]) / rate), 2)
-    turn = _standing_turn(rec)
+    turn = None if first_step is None else _standing_turn(rec, first_step)
     if turn is not None:
         measured["start_turn_deg"] = turn
         if abs(turn) >= START_TURN_MIN_DEG and fields["stand_start_s"] > 0:

@@ -127,7 +127,8 @@ def test_a_simulated_walk_gives_back_its_walker_rates_and_radio(walked):
     assert cal.device.light.max_event_rate_hz <= nexus.light.max_event_rate_hz * 1.05
     # A held phone's still parts carry the hand's tremor: the noise is a bound from above.
     assert cal.device.accel.noise_density >= nexus.accel.noise_density
-    # It stood facing its way: no turn before the first step is fitted.
+    # It stood 8 s before setting off, and facing its way: no turn is fitted.
+    assert cal.walker.stand_start_s == pytest.approx(walker.stand_start_s, abs=0.3)
     assert abs(cal.measured["start_turn_deg"]) < 5.0 and cal.walker.start_turn_deg == 0.0
 
 
@@ -145,7 +146,8 @@ def test_a_walker_standing_turned_before_its_first_step_is_given_back():
     cal = calibrate(rec)
     # The phone's own turn in the hand and the gyro's bias add a degree or two.
     assert cal.walker.start_turn_deg == pytest.approx(-25.0, abs=3.0)
-    assert cal.walker.start_turn_s == cal.walker.stand_start_s > 0
+    assert cal.walker.start_turn_s == cal.walker.stand_start_s
+    assert cal.walker.stand_start_s == pytest.approx(4.0, abs=0.3)
 
 
 def test_the_written_calibration_drives_simulate_and_round_trips(walked, tmp_path):
