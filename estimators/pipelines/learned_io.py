@@ -106,9 +106,11 @@ __all__ = ["LearnedIO"]
 _SAME_RATE = 1e-6
 # A longer interval between gyro samples is a gap the gyro's turn is not known across, s.
 _GYRO_GAP_S = 0.25
-_ALIGN_FALLBACK_S = 10.0
+_ALIGN_FALLBACK_S = 30.0
 """With ``frame_offset="start"``, how long the predictions may move (at ``min_speed_mps``)
-without reaching walking speed before their own way sets the frame, s."""
+without ever reaching walking speed before their own way sets the frame, s: far longer
+than a surveyor stands handling the phone. The way must also be straight enough (its
+length at least half the distance moved), which a phone shaken in the hand is not."""
 
 
 @register("learned-io")
@@ -128,8 +130,10 @@ class LearnedIO:
             first walked is the sum of the predicted displacements of the
             windows at walking speed (``align_speed_mps``) until it is
             ``align_distance_m`` long (0: the first such window); until then
-            the estimate holds the start, and the track walked meanwhile is
-            turned into place with the frame.
+            the estimate holds the start, and the track walked meanwhile
+            (standing drift included) is turned into place with the frame. A
+            walk that never reaches walking speed sets it after
+            ``_ALIGN_FALLBACK_S`` of slower, fairly straight motion.
         align_speed_mps: a window counts as walked from this predicted speed (and
             from ``min_speed_mps``): a standing phone turned and shaken in the
             hand reads a few tenths of a metre per second in any direction, and
@@ -233,6 +237,7 @@ class LearnedIO:
         self._align_sum = np.zeros(2)
         self._slow_sum = np.zeros(2)
         self._slow_s = 0.0
+        self._slow_m = 0.0
         self._heading = float(start.heading)
         self._t_done = float(start.t0)
         self._to_building = self._site_offset
@@ -256,13 +261,13 @@ class LearnedIO:
         valid = obs["valid"].astype(bool)
         t = obs["t"][valid]
         if not len(t):
-            return self._position.copy()
+            return self._estimate()
         attitude = self._attitude(obs, valid)
         if attitude is None:
             # No world frame: hold, and start the buffer afresh when it returns.
             self._t_done = float(t[-1])
             self._clear()
-            return self._position.copy()
+            return self._estimate()
         # Every window, so that the gyro's integral misses none.
         disturbance = 0.0
         if self.magnetic_tau_s is not None and present_streams(obs)["gyro"]:
@@ -276,7 +281,7 @@ class LearnedIO:
         w = self._net.window_samples
         self._buffer = np.concatenate([self._buffer, imu])[-w:]
         if len(self._buffer) < w:
-            return self._position.copy()
+            return self._estimate()
         x = torch.from_numpy(np.ascontiguousarray(self._buffer.T[None], dtype=np.float32))
         with torch.inference_mode():
             v = self._net.model(x)[0].double().numpy()
@@ -287,35 +292,44 @@ class LearnedIO:
         c, s = math.cos(angle), math.sin(angle)
         v = np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
         dt = float(t[-1]) - self._t_done
-        self._position += v * dt
         self._t_done = float(t[-1])
+        if not np.isfinite(v).all():
+            return self._estimate()  # no prediction: the position holds
+        self._position += v * dt
         if self._align_pending:
             v = self._align(v, dt)
-        if self._align_pending:
-            # No frame yet: the start is the best answer (the track so far is turned
-            # into place once the frame is set).
-            return self._start.copy()
-        if np.hypot(v[0], v[1]) >= self.min_speed_mps:
+        if not self._align_pending and np.hypot(v[0], v[1]) >= self.min_speed_mps:
             self._heading = float(wrap_angle(math.atan2(v[1], v[0])))
-        return self._position.copy()
+        return self._estimate()
+
+    def _estimate(self) -> NDArray[np.float64]:
+        """The position to report: the start while the frame is not yet set (the track so
+        far is turned into place when it is), else the integrated one."""
+        return (self._start if self._align_pending else self._position).copy()
 
     def _align(self, v: NDArray[np.float64], dt: float) -> NDArray[np.float64]:
         """Add this window to the way first walked if it is at walking speed; once that way
         is long enough, turn it onto the start heading — the frame, and the track walked
         so far about the start. A walk whose predictions never reach walking speed is
         aligned on its windows at ``min_speed_mps`` once they add up to
-        :data:`_ALIGN_FALLBACK_S`. Returns the window's velocity in the frame now in use."""
+        :data:`_ALIGN_FALLBACK_S` along a fairly straight way. Returns the window's
+        velocity in the frame now in use."""
         speed = float(np.hypot(v[0], v[1]))
         if not speed >= self.min_speed_mps:  # NaN too
             return v
         self._slow_sum += v * dt
         self._slow_s += dt
+        self._slow_m += speed * dt
         if speed >= self.align_speed_mps:
             self._align_sum += v * dt
             way = self._align_sum
             if np.hypot(way[0], way[1]) < self.align_distance_m or not way.any():
                 return v
-        elif self._slow_s >= _ALIGN_FALLBACK_S and self._slow_sum.any():
+        elif (
+            not self._align_sum.any()
+            and self._slow_s >= _ALIGN_FALLBACK_S
+            and np.hypot(*self._slow_sum) >= 0.5 * self._slow_m
+        ):
             way = self._slow_sum
         else:
             return v

@@ -251,6 +251,10 @@ def _walker(rec: Recording, measured: dict[str, float], not_measured: dict[str, 
         if abs(turn) >= START_TURN_MIN_DEG and fields["stand_start_s"] > 0:
             fields["start_turn_deg"] = round(turn, 1)
             fields["start_turn_s"] = fields["stand_start_s"]
+        elif abs(turn) >= START_TURN_MIN_DEG:
+            not_measured["start_turn_deg"] = (
+                f"turned {turn:.1f}° before the first step without standing: not fitted"
+            )
     if "waypoints" not in rec.streams or len(rec.waypoints) < 2:
         not_measured["speed_mps"] = "no waypoints: the walking speed is not shown"
         not_measured["height_m"] = "no waypoints: the step length is not shown"

@@ -543,18 +543,47 @@ def test_alignment_settings_must_not_be_negative():
         LearnedIO(align_distance_m=-1.0)
 
 
-def test_a_walk_that_never_reaches_walking_speed_is_aligned_on_its_own_way():
-    # 0.3 m/s toward +y for 12 s: under walking speed throughout, so after 10 s of it
-    # the way it went (+y) sets the frame, turned onto the start heading (+x).
-    est = _aligning()
-    t = np.arange(600) / 50.0
-    push = np.tile([0.0, 0.3, 9.81], (600, 1))
-    for k in range(0, 600, 50):
+def _slow_then_walk(est: LearnedIO, slow_s: float, slow, walk_s: float = 0.0):
+    """``slow_s`` of a phone read as moving at ``slow`` (m/s, x and y), then ``walk_s`` of
+    walking at 1 m/s toward +y, in 1 s windows; the last estimate returned."""
+    n = round(50 * (slow_s + walk_s))
+    t = np.arange(n) / 50.0
+    push = np.tile([0.0, 1.0, 9.81], (n, 1))
+    push[: round(50 * slow_s), :2] = slow
+    for k in range(0, n, 50):
         s = slice(k, k + 50)
         position = est.act(_obs(t[s], push[s], np.zeros((50, 3)), _yaw(np.zeros(50))))
+    return position, t
+
+
+def test_a_walk_that_never_reaches_walking_speed_is_aligned_on_its_own_way():
+    # 0.3 m/s toward +y for 32 s: under walking speed throughout, so after 30 s of it
+    # the way it went (+y) sets the frame, turned onto the start heading (+x).
+    est = _aligning()
+    position, t = _slow_then_walk(est, 32.0, (0.0, 0.3))
     assert not est._align_pending
     assert est.heading == pytest.approx(0.0, abs=1e-6)
     np.testing.assert_allclose(position, START + np.array([0.3 * t[-1], 0.0]), atol=1e-5)
+
+
+def test_a_long_fidget_does_not_set_the_frame_before_the_walk():
+    # 12 s of a standing phone read as 0.3 m/s toward 60°, then walking toward +y: the
+    # walk, not the fidget, sets the frame (the fidget's drift is turned with it).
+    est = _aligning()
+    fidget = 0.3 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
+    _slow_then_walk(est, 12.0, fidget, walk_s=3.0)
+    assert est.heading == pytest.approx(0.0, abs=1e-6)
+
+
+def test_while_the_frame_is_pending_every_answer_is_the_start():
+    # A window without a rotation vector while still slow: the start, not the drift.
+    est = _aligning()
+    _slow_then_walk(est, 2.0, (0.0, 0.3))
+    t = 2.0 + np.arange(50) / 50.0
+    obs = _obs(t, np.tile([0.0, 0.3, 9.81], (50, 1)), np.zeros((50, 3)), _yaw(np.zeros(50)))
+    obs["present"][PRESENT_ORDER.index("rotation")] = 0
+    obs["rotation"] = np.full((50, 4), np.nan)
+    np.testing.assert_array_equal(est.act(obs), START)
 
 
 def test_a_nan_prediction_does_not_set_the_frame():
