@@ -708,6 +708,19 @@ def _plot_twins(table: pd.DataFrame, path: Path) -> None:
     plot_sim_to_real(errors).savefig(path, dpi=110)
 
 
+RATIO_BAND = (0.8, 1.25)
+"""The real/sim ratios aimed at (the "Sim-to-real" issue), for errors and for signals."""
+_BAND_TEXT = f"{RATIO_BAND[0]:g}–{RATIO_BAND[1]:g}"
+
+
+def _inside_band(ratio: float) -> bool:
+    return bool(RATIO_BAND[0] <= ratio <= RATIO_BAND[1])
+
+
+def _outside_note(ratio: float) -> str:
+    return "" if _inside_band(ratio) else f" (outside {_BAND_TEXT})"
+
+
 def write_twin_section(out: Path, results: TwinResults) -> list[str]:
     """``sim_to_real_twins.csv``, ``sim_to_real_signals.csv`` and ``sim_to_real.png``;
     returns the Markdown section."""
@@ -741,10 +754,10 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         "|---|---|---|---|---|---|",
     ]
     for _, r in summary.iterrows():
-        inside = "" if 0.8 <= r["ratio"] <= 1.25 else " (outside 0.8–1.25)"
         lines.append(
             f"| {r['estimator']} | {r['ae_real']:.2f} | {r['ae_sim']:.2f} | "
-            f"{r['ratio']:.2f}{inside} | {r['path_ratio_real']:.2f} | {r['path_ratio_sim']:.2f} |"
+            f"{r['ratio']:.2f}{_outside_note(r['ratio'])} | {r['path_ratio_real']:.2f} | "
+            f"{r['path_ratio_sim']:.2f} |"
         )
     lines += [
         "",
@@ -763,11 +776,10 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         "|---|---|---|---|---|---|",
     ]
     for _, r in summary.iterrows():
-        inside = "" if 0.8 <= r["aligned_ratio"] <= 1.25 else " (outside 0.8–1.25)"
         lines.append(
             f"| {r['estimator']} | {r['turn_real']:.1f} | {r['turn_sim']:.1f} | "
             f"{r['ae_aligned_real']:.2f} | {r['ae_aligned_sim']:.2f} | "
-            f"{r['aligned_ratio']:.2f}{inside} |"
+            f"{r['aligned_ratio']:.2f}{_outside_note(r['aligned_ratio'])} |"
         )
     lines += [
         "",
@@ -799,14 +811,14 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         real = float(real_values[both].median())
         sim = float(sim_values[both].median())
         lines.append(f"| {label} | {int(both.sum())} | {real:.3g} | {sim:.3g} | {real / sim:.2f} |")
-        if not 0.8 <= real / sim <= 1.25:
+        if not _inside_band(real / sim):
             apart.append(f"{label.split(' (')[0]} ({real / sim:.2f})")
     lines.append("")
     if apart:
         # The measured departures of the twins from their real traces: where an
         # estimator's real/sim error ratio leaves 0.8–1.25, look here first.
         lines += [
-            "Where the twins depart from their real traces by more than 0.8–1.25 (real / "
+            f"Where the twins depart from their real traces by more than {_BAND_TEXT} (real / "
             "sim): " + "; ".join(apart) + ".",
             "",
         ]

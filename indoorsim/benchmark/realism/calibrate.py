@@ -66,7 +66,7 @@ import yaml
 from numpy.typing import NDArray
 from scipy.signal import welch
 
-from indoorsim.benchmark.realism.headings import gyro_yaw_rate
+from indoorsim.benchmark.realism.headings import gyro_heading
 from indoorsim.benchmark.realism.magnetic import HARD_IRON_MIN_ARC_DEG, hard_iron_residual
 from indoorsim.benchmark.realism.motion import walking_signals
 from indoorsim.benchmark.realism.stats import long_runs, moving_std, peak_frequency
@@ -219,11 +219,11 @@ def _standing_turn(rec: Recording, first_step: float) -> float | None:
     or a standing start. The twin makes the turn over its whole standing time."""
     if "gyro" not in rec.streams or len(rec.gyro) < 10:
         return None
-    t, rate = gyro_yaw_rate(rec)
-    standing = t <= first_step
-    if standing.sum() < 2:
+    t, heading = gyro_heading(rec)
+    standing = int(np.searchsorted(t, first_step, side="right"))  # samples at or before it
+    if standing < 2:
         return None
-    return -math.degrees(float(np.trapezoid(rate[standing], t[standing])))
+    return -math.degrees(float(heading[standing - 1]))
 
 
 def _walker(rec: Recording, measured: dict[str, float], not_measured: dict[str, str]) -> dict:

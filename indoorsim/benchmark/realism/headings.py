@@ -42,6 +42,7 @@ __all__ = [
     "MIN_SPAN_S",
     "TURN_CLEAR_S",
     "LegHeadings",
+    "gyro_heading",
     "gyro_yaw_rate",
     "leg_headings",
 ]
@@ -92,6 +93,13 @@ def gyro_yaw_rate(rec: Recording) -> tuple[NDArray[np.float64], NDArray[np.float
     return t, rate
 
 
+def gyro_heading(rec: Recording) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The gyro's heading about gravity (:func:`gyro_yaw_rate` integrated, trapezoids), 0
+    at the first sample: (t, heading), rad, counter-clockwise, unwrapped."""
+    t, rate = gyro_yaw_rate(rec)
+    return t, cumulative_trapezoid(rate, t, initial=0.0)
+
+
 def leg_headings(rec: Recording) -> LegHeadings | None:
     """Each long leg's marked direction and heading swing against the gyro (module
     docstring); None where the walk has no waypoints, gyro or accelerometer, or no
@@ -103,10 +111,9 @@ def leg_headings(rec: Recording) -> LegHeadings | None:
     marks = wp.index.to_numpy(dtype=float)
     if len(xy) < 2 or len(rec.gyro) < 10 or len(rec.accel) < 2:
         return None
-    t, rate = gyro_yaw_rate(rec)
-    if not np.isfinite(rate).all():
+    t, heading = gyro_heading(rec)
+    if not np.isfinite(heading).all():
         return None  # no finite sample to bridge from
-    heading = cumulative_trapezoid(rate, t, initial=0.0)
     window = max(1, round(HEADING_MEAN_S / float(np.median(np.diff(t)))))
     legs, lengths, marked, walked, swings = [], [], [], [], []
     for i in range(len(xy) - 1):
