@@ -112,6 +112,22 @@ def test_access_points_cover_every_route(kind: str, seed: int, built) -> None:
         assert nearest.max() <= 15.0, name
 
 
+@pytest.mark.parametrize("kind", ["office", "l_corridor", "u_corridor"])
+def test_room_aps_keep_an_enterprise_density(kind: str) -> None:
+    """Rooms get APs on their far walls only while the floor has fewer than one
+    dual-band AP per 100–250 m² (``draft.AP_FLOOR_AREA_M2``): never more than one
+    per 100 m² beyond what the corridor's own APs give."""
+    for seed in range(6):
+        s = generate(kind, seed=seed)
+        area = FloorPlan(s).outline.area
+        h = s.site.ceiling_height
+        # Each AP is a 2.4 and a 5 GHz radio; corridor APs hang at the ceiling.
+        ceiling = sum(1 for ap in s.wifi if ap.position[2] > h - 0.1) // 2
+        room = sum(1 for ap in s.wifi if ap.position[2] <= h - 0.1) // 2
+        assert 2 * (ceiling + room) == len(s.wifi)
+        assert room <= max(0, math.ceil(area / 100.0) - ceiling), (seed, room, ceiling, area)
+
+
 @pytest.mark.parametrize(("kind", "seed"), CASES)
 def test_steel_in_every_building(kind: str, seed: int, built) -> None:
     s = built[kind, seed]

@@ -15,6 +15,7 @@ from indoorsim.world.radio import (
     RadioModel,
     ap_pattern_db,
     floor_loss_db,
+    slab_loss_at,
     free_space_loss_1m_db,
     storey_bssid,
 )
@@ -229,6 +230,13 @@ def test_cost231_floor_loss_in_closed_form():
         floor_loss_db(-1, 18.3)
 
 
+def test_a_slab_loses_more_at_5_ghz_as_concrete_does():
+    # Concrete: 12 dB at 2.4 GHz, 25.8 dB at 5.2 GHz (3GPP TR 38.901), linear between.
+    assert slab_loss_at(18.3, 2.4) == pytest.approx(18.3)
+    assert slab_loss_at(18.3, 5.2) == pytest.approx(18.3 + 13.8)
+    assert slab_loss_at(18.3, 3.8) == pytest.approx(18.3 + 6.9)
+
+
 def test_the_storeys_above_and_below_repeat_the_floors_aps_through_the_slab():
     radio = {
         **NO_SHADOWING,
@@ -247,7 +255,8 @@ def test_the_storeys_above_and_below_repeat_the_floors_aps_through_the_slab():
     p = np.array([[10.0, 5.0, 2.5]])
     rss = model.rss(p)[0]
     d = np.array([1.0, 3.0, 3.0, 6.0])
-    slabs = np.array([0.0, 15.0, 15.0, floor_loss_db(2, 15.0)])
+    slab = slab_loss_at(15.0, 2.437)
+    slabs = np.array([0.0, slab, slab, floor_loss_db(2, slab)])
     expected = 20.0 - 10.0 - free_space_loss_1m_db(2.437) - 20 * np.log10(d) - slabs
     np.testing.assert_allclose(rss, expected, atol=1e-9)
 

@@ -18,9 +18,10 @@ Figures it follows:
   in about half the rooms.
 * Light (REALISM §3.2, §3.3): one fixture type along every arm every 3–5 m,
   tubes or panels in a 2.4–3.6 m grid in the rooms.
-* Radio: APs every 12–18 m along each arm and on the far wall of some large
-  rooms; path-loss exponent 2.0 and shadowing σ 4 dB, within REALISM §4.1's
-  corridor and §4.3's ranges.
+* Radio: APs every 12–18 m along each arm and on the far walls of the
+  largest rooms until the floor has one AP per 100–250 m² (an enterprise
+  deployment's density, ``draft.AP_FLOOR_AREA_M2``); path-loss exponent 2.0
+  and shadowing σ 4 dB, within REALISM §4.1's corridor and §4.3's ranges.
 * Routes: ``corridor`` along the whole corridor, ``room_visit`` along it to
   one room; surveys on the corridor (grid over its floor, walk with
   reference points 5–10 m apart).
@@ -206,9 +207,7 @@ def _courtyard(kind: str, size: Size | None, seed: int, arms: int) -> Scenario:
     d.aps_along((xw, cw), (xw, span), ssid)
     if east:
         d.aps_along((xe, cw), (xe, span), ssid)
-    for door in room_doors:
-        if max(door.room.width, door.room.depth) >= 7.0 and rng.random() < 0.4:
-            d.wall_ap(door, ssid)
+    d.room_aps(room_doors, ssid)
 
     north_w = (xw, span - 0.9)
     if east:

@@ -73,6 +73,12 @@ class _Fixture:
     """The emitting face, length × width, m (a tube lies along its line of lights)."""
 
 
+AP_FLOOR_AREA_M2 = (100.0, 250.0)
+"""Floor served by one dual-band AP in an enterprise deployment [E]: a
+coverage-designed floor has one per 230–465 m² (2 500–5 000 sq ft, the cells
+12–18 m apart that the corridor APs make), a capacity-designed office one per
+100–150 m². Each AP is two BSSIDs, so a floor of 900 m² lists 8–18 of its own."""
+
 _FIXTURES = {
     "tube": _Fixture(intensity_cd=(500.0, 600.0), exponent=(1.0, 1.2), size=(1.2, 0.03)),
     "panel": _Fixture(intensity_cd=(1500.0, 1800.0), exponent=(2.4, 2.75), size=(0.6, 0.6)),
@@ -491,6 +497,17 @@ class Draft:
             # Off the light line, so lamp and AP do not share a ceiling tile.
             dx, dy = (b[1] - a[1]) / math.dist(a, b), -(b[0] - a[0]) / math.dist(a, b)
             self.access_point(x + 0.4 * dx, y + 0.4 * dy, self.h - 0.05, ssid)
+
+    def room_aps(self, doors: Sequence[Door], ssid: str, min_size_m: float = 7.0) -> None:
+        """APs on the far walls of the largest rooms (a side of ``min_size_m`` or more),
+        until the floor has one AP per :data:`AP_FLOOR_AREA_M2` (drawn per building),
+        the APs already placed counted first."""
+        per_ap = self.rng.uniform(*AP_FLOOR_AREA_M2)
+        budget = math.ceil(self.footprint().area / per_ap) - len(self.wifi) // 2
+        large = [d for d in doors if max(d.room.width, d.room.depth) >= min_size_m]
+        # The largest rooms first, a stable sort keeping the doors' order between equals.
+        for door in sorted(large, key=lambda d: -d.room.width * d.room.depth)[: max(0, budget)]:
+            self.wall_ap(door, ssid)
 
     def wall_ap(self, door: Door, ssid: str) -> None:
         """An AP high on the room wall facing the door (the far side of the room)."""

@@ -21,9 +21,10 @@ Figures it follows:
   package docstring).
 * Light (REALISM §3.2, §3.3): one fixture type along the corridor every
   3–5 m, tubes or panels in a 2.4–3.6 m grid in the rooms.
-* Radio: APs every 12–18 m along the corridor and on the far wall of some
-  large rooms; path-loss exponent 2.0 and shadowing σ 4 dB, within REALISM
-  §4.1's corridor and §4.3's ranges; the floor is one of an office block, so
+* Radio: APs every 12–18 m along the corridor and on the far walls of the
+  largest rooms until the floor has one AP per 100–250 m² (an enterprise
+  deployment's density, ``draft.AP_FLOOR_AREA_M2``); path-loss exponent 2.0
+  and shadowing σ 4 dB, within REALISM §4.1's corridor and §4.3's ranges; the floor is one of an office block, so
   the APs of two storeys above and two below are heard through the slabs.
 * Routes: ``corridor`` along the centre line, ``round_trip`` out and back on
   either side of it, ``room_visit`` into one room and on; surveys on the
@@ -175,9 +176,7 @@ def build_office(size: Size | None, seed: int) -> Scenario:
 
     ssid = str(rng.choice(["staff", "office", "corp"]))
     d.aps_along((0.0, yc), (length, yc), ssid)
-    for door in room_doors:
-        if door.room.width >= 7.0 and rng.random() < 0.5:
-            d.wall_ap(door, ssid)
+    d.room_aps(room_doors, ssid)
 
     start, end = (0.9, yc), (length - 0.9, yc)
     d.route("corridor", [start, end])
