@@ -26,8 +26,9 @@ Mean RSS (dBm) of access point k at a receiver p (REALISM §4.1, DESIGN §4 "Rad
   with BSSIDs of their own (:func:`storey_bssid`). Through k slabs they lose
   the COST 231 multi-floor term L_f·k^((k+2)/(k+1) − b), b = 0.46
   (``radio.floor_loss_db`` = L_f at 2.4 GHz, growing with frequency as concrete's
-  loss does, :func:`slab_loss_at`: a 5 GHz radio loses about 14 dB more), and the walls their path crosses in plan
-  view, counted once as if the floors had the same walls. They are what fills
+  loss does, :func:`slab_loss_at`: a 5 GHz radio loses about 14 dB more), and
+  the walls their path crosses in plan view, counted once as if the floors had
+  the same walls. They are what fills
   a real scan with weak APs: a phone hears its own floor's few loud APs and
   many through the slabs.
 

@@ -15,8 +15,8 @@ from indoorsim.world.radio import (
     RadioModel,
     ap_pattern_db,
     floor_loss_db,
-    slab_loss_at,
     free_space_loss_1m_db,
+    slab_loss_at,
     storey_bssid,
 )
 

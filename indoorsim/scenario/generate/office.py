@@ -24,8 +24,9 @@ Figures it follows:
 * Radio: APs every 12–18 m along the corridor and on the far walls of the
   largest rooms until the floor has one AP per 100–250 m² (an enterprise
   deployment's density, ``draft.AP_FLOOR_AREA_M2``); path-loss exponent 2.0
-  and shadowing σ 4 dB, within REALISM §4.1's corridor and §4.3's ranges; the floor is one of an office block, so
-  the APs of two storeys above and two below are heard through the slabs.
+  and shadowing σ 4 dB, within REALISM §4.1's corridor and §4.3's ranges; the
+  floor is one of an office block, so the APs of two storeys above and two
+  below are heard through the slabs.
 * Routes: ``corridor`` along the centre line, ``round_trip`` out and back on
   either side of it, ``room_visit`` into one room and on; surveys on the
   corridor (grid over its floor, walk with reference points 5–10 m apart).
