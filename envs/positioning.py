@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v4`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v5`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -220,11 +220,14 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       long axis, follows part of the trunk's lean, and its wrist is damped harder and
       stiffer sideways): a seed gives other observations and errors. Spaces, rewards
       and arguments are unchanged.
+    - v5: the WiFi scans changed (a 5 GHz radio of the storey above or below loses
+      13.8 dB more through the slab than a 2.4 GHz one, as concrete does): a seed
+      gives other scans and WiFi errors. Spaces, rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v4")
+        >>> env = gym.make("indoorsim/MinimalRoom-v5")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)
