@@ -52,6 +52,30 @@ SWEEP = settings.get_profile("slow")
 """For the ``slow`` sweeps: the property over 500 fresh random examples a run."""
 
 
+@pytest.fixture(scope="session")
+def one_room_data(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A data set of one 30 s walk in the bundled 10 m room: ~60 windows of 1 s at
+    50 Hz, all in the train split (its val and test splits are empty). Seconds to
+    build; enough to train the learned-io network an epoch or two."""
+    from indoorsim.dataset import DatasetConfig, build_dataset
+
+    config = DatasetConfig(
+        sites=1,
+        walks_per_site=1,
+        minutes=0.5,
+        seed=3,
+        bundled=["minimal_room"],
+        bundled_share=1.0,
+        imu_rate_hz=50.0,
+        window_samples=50,
+        stride_samples=25,
+        rows_per_row_group=64,
+    )
+    out = tmp_path_factory.mktemp("one_room") / "data"
+    build_dataset(config, out, workers=1, progress=False)
+    return out
+
+
 @pytest.fixture
 def minimal_site_path(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The shared minimal example; without the shared folder, the bundled copy under its name.

@@ -41,6 +41,14 @@ Checkpoints are folders of two files (:func:`load_checkpoint`):
   provenance (training configuration, data set card checksum, versions,
   losses) and the SHA-256 of ``weights.pt``.
 
+An *ensemble* is a folder of such checkpoints, each trained by the same
+command with its own ``--seed``, and an ``ensemble.json`` naming them
+(:data:`ENSEMBLE_JSON`, written by ``indoorsim train --members N``). Its
+network averages the members' velocities (a deep ensemble, Lakshminarayanan
+et al., NeurIPS 2017): networks that differ only in their seed agree on the
+buildings they were trained in and disagree most where their training did not
+reach, so the mean is steadier off the training set than any one of them.
+
 Loading reads ``weights.pt`` with ``torch.load(..., weights_only=True)``,
 whose restricted unpickler builds only tensors and plain containers, never
 arbitrary objects, then refuses anything that is not a flat ``{name:
@@ -68,6 +76,8 @@ from torch import nn
 __all__ = [
     "CHECKPOINT_FORMAT",
     "CHECKPOINT_VERSION",
+    "ENSEMBLE_FORMAT",
+    "ENSEMBLE_JSON",
     "FRAMES",
     "MODEL_JSON",
     "PACKAGED_CHECKPOINT",
@@ -75,7 +85,9 @@ __all__ = [
     "Checkpoint",
     "CheckpointError",
     "InertialConfig",
+    "InertialEnsemble",
     "InertialResNet",
+    "ensemble_meta",
     "is_checkpoint",
     "load_checkpoint",
     "load_weights",
@@ -84,6 +96,9 @@ __all__ = [
 ]
 
 CHECKPOINT_FORMAT = "indoorsim-inertial-checkpoint"
+ENSEMBLE_FORMAT = "indoorsim-inertial-ensemble"
+ENSEMBLE_JSON = "ensemble.json"
+"""Names an ensemble's member folders (``{"format": ENSEMBLE_FORMAT, "members": [...]}``)."""
 CHECKPOINT_VERSION = 1
 MODEL_JSON = "model.json"
 WEIGHTS_FILE = "weights.pt"
@@ -229,13 +244,27 @@ class InertialResNet(nn.Module):
         return sum(p.numel() for p in self.parameters() if p.requires_grad)
 
 
+class InertialEnsemble(nn.Module):
+    """The mean of several :class:`InertialResNet` outputs (see the module docstring)."""
+
+    def __init__(self, members: Sequence[nn.Module]):
+        super().__init__()
+        if not members:
+            raise ValueError("an ensemble needs at least one member")
+        self.members = nn.ModuleList(members)
+
+    def forward(self, imu: torch.Tensor) -> torch.Tensor:
+        return torch.stack([member(imu) for member in self.members]).mean(dim=0)
+
+
 class CheckpointError(ValueError):
     """A checkpoint folder that cannot be loaded: missing, malformed, or unsafe."""
 
 
 @dataclass(frozen=True)
 class Checkpoint:
-    """A loaded checkpoint: the network in eval mode and its ``model.json``.
+    """A loaded checkpoint: the network in eval mode and its ``model.json`` (an
+    ensemble's: its members averaged, and its ``ensemble.json``).
 
     Attributes:
         model: the rebuilt network, weights loaded, in eval mode.
@@ -243,7 +272,7 @@ class Checkpoint:
         source: where it was loaded from.
     """
 
-    model: InertialResNet
+    model: InertialResNet | InertialEnsemble
     meta: dict[str, Any] = field(repr=False)
     source: str = ""
 
@@ -324,6 +353,23 @@ def is_checkpoint(folder: Path) -> bool:
     return isinstance(meta, dict) and meta.get("format") == CHECKPOINT_FORMAT
 
 
+def ensemble_meta(members: Sequence[str], checkpoints: Sequence[Checkpoint]) -> dict[str, Any]:
+    """The ``ensemble.json`` of member folders ``members``, loaded as ``checkpoints``:
+    its frame, rate and window (which the members share) and each member's losses."""
+    first = checkpoints[0].meta
+    return {
+        "format": ENSEMBLE_FORMAT,
+        "format_version": CHECKPOINT_VERSION,
+        "members": list(members),
+        "frame": first["frame"],
+        "imu_rate_hz": first["imu_rate_hz"],
+        "window_samples": first["window_samples"],
+        "member_final_losses": {
+            name: ck.meta.get("final") for name, ck in zip(members, checkpoints, strict=True)
+        },
+    }
+
+
 def _model_from_meta(meta: Mapping[str, Any], source: str) -> InertialResNet:
     try:
         if meta.get("format") != CHECKPOINT_FORMAT:
@@ -358,6 +404,46 @@ def load_checkpoint(folder: str | Path | Traversable | None = None) -> Checkpoin
             checksum, or the network's parameter names and shapes).
     """
     root: Traversable = packaged_checkpoint() if folder is None else _traversable(folder)
+    if (root / ENSEMBLE_JSON).is_file():
+        return _load_ensemble(root)
+    return _load_single(root)
+
+
+def _load_ensemble(root: Traversable) -> Checkpoint:
+    """An ensemble folder's members, loaded each as :func:`load_checkpoint` does, as one
+    :class:`Checkpoint` whose network averages them."""
+    source = str(root)
+    try:
+        meta = json.loads(_read(root, ENSEMBLE_JSON).decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as err:
+        raise CheckpointError(f"{source}/{ENSEMBLE_JSON}: not valid JSON: {err}") from None
+    members = meta.get("members") if isinstance(meta, dict) else None
+    if (
+        not isinstance(meta, dict)
+        or meta.get("format") != ENSEMBLE_FORMAT
+        or not isinstance(members, list)
+        or not members
+    ):
+        raise CheckpointError(
+            f"{source}/{ENSEMBLE_JSON}: expected {{'format': {ENSEMBLE_FORMAT!r}, "
+            "'members': [folder names]}"
+        )
+    for name in members:
+        # Plain names of sub-folders only: an ensemble never reaches outside itself.
+        plain = isinstance(name, str) and name not in {"", ".", ".."}
+        if not plain or "/" in name or "\\" in name:
+            raise CheckpointError(f"{source}/{ENSEMBLE_JSON}: member {name!r} is not a folder name")
+    loaded = [_load_single(root / name) for name in members]
+    shared = {(ck.frame, ck.imu_rate_hz, ck.window_samples) for ck in loaded}
+    if len(shared) != 1:
+        raise CheckpointError(
+            f"{source}: members differ in frame, IMU rate or window: {sorted(shared)}"
+        )
+    model = InertialEnsemble([ck.model for ck in loaded]).eval()
+    return Checkpoint(model=model, meta=ensemble_meta(members, loaded), source=source)
+
+
+def _load_single(root: Traversable) -> Checkpoint:
     source = str(root)
     try:
         meta = json.loads(_read(root, MODEL_JSON).decode("utf-8"))

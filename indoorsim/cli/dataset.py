@@ -162,6 +162,14 @@ def add_train(subparsers: Subparsers) -> None:
         help="input frame (default world)",
     )
     parser.add_argument(
+        "--members",
+        type=positive(int),
+        default=1,
+        metavar="N",
+        help="train an ensemble of N networks, seeds S to S+N-1, into --out/member-K and "
+        "name them in --out/ensemble.json; learned-io averages their velocities (default 1)",
+    )
+    parser.add_argument(
         "--overwrite", action="store_true", help="replace a checkpoint of another run at --out"
     )
     parser.add_argument("--quiet", action="store_true", help="no progress bar or epoch lines")
@@ -169,7 +177,13 @@ def add_train(subparsers: Subparsers) -> None:
 
 
 def _run_train(args: argparse.Namespace) -> int:
-    from indoorsim.dataset.train import TrainConfig, TrainingFolderError, describe, train
+    from indoorsim.dataset.train import (
+        TrainConfig,
+        TrainingFolderError,
+        describe,
+        train,
+        train_ensemble,
+    )
 
     try:
         config = TrainConfig(
@@ -192,21 +206,26 @@ def _run_train(args: argparse.Namespace) -> int:
             f"--epochs {args.epochs} --batch-size {args.batch_size} --lr {args.lr:g}",
             f"--seed {args.seed} --workers {args.workers} --threads {args.threads}",
             f"--frame {args.frame}",
+            *([f"--members {args.members}"] if args.members > 1 else []),
         ]
     )
+    how = {
+        "overwrite": args.overwrite,
+        "progress": False if args.quiet else None,
+        "log": None if args.quiet else lambda line: print(line, file=sys.stderr),
+        "command": command,
+        # Even with --quiet: a run without a validation or test loss is worth a line.
+        "warn": lambda line: print(f"indoorsim: warning: {line}", file=sys.stderr),
+    }
     try:
-        report = train(
-            args.data,
-            args.out,
-            config,
-            overwrite=args.overwrite,
-            progress=False if args.quiet else None,
-            log=None if args.quiet else lambda line: print(line, file=sys.stderr),
-            command=command,
-            # Even with --quiet: a run without a validation or test loss is worth a line.
-            warn=lambda line: print(f"indoorsim: warning: {line}", file=sys.stderr),
-        )
+        if args.members > 1:
+            reports = train_ensemble(args.data, args.out, config, members=args.members, **how)
+        else:
+            reports = [train(args.data, args.out, config, **how)]
     except TrainingFolderError as err:
         raise CliError(str(err)) from None
-    print(textwrap.fill(describe(report), width=88, break_on_hyphens=False))
+    for report in reports:
+        print(textwrap.fill(describe(report), width=88, break_on_hyphens=False))
+    if args.members > 1:
+        print(f"{args.out}: an ensemble of {args.members} members (ensemble.json).")
     return 0

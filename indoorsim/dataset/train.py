@@ -35,10 +35,17 @@ resumes from the last finished epoch when the same command is run again; the
 result is the same as that of an uninterrupted run, because no random state
 outlives an epoch. Once finished the folder holds only the two files a user
 needs, loaded by :func:`~indoorsim.estimators.nn.inertial.load_checkpoint`.
+
+Ensembles. :func:`train_ensemble` runs :func:`train` once per member, the
+members differing only in their seed (``seed``, ``seed + 1``, …), each into its
+own sub-folder ``member-K`` (each resumable as above), then names them in
+``ensemble.json``, written last: a folder without it is an unfinished ensemble,
+which running the same command again completes.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import math
@@ -58,25 +65,30 @@ from indoorsim._version import __version__
 from indoorsim.estimators.nn.inertial import (
     CHECKPOINT_FORMAT,
     CHECKPOINT_VERSION,
+    ENSEMBLE_JSON,
     FRAMES,
     MODEL_JSON,
     WEIGHTS_FILE,
     CheckpointError,
     InertialConfig,
     InertialResNet,
+    ensemble_meta,
     is_checkpoint,
+    load_checkpoint,
     load_weights,
     weights_bytes,
 )
 from indoorsim.estimators.nn.threads import torch_settings
-from indoorsim.io.atomic import write_folder
+from indoorsim.io.atomic import write_folder, write_text_atomic
 
 __all__ = [
     "TRAINING_STATE",
     "TrainConfig",
     "TrainReport",
     "TrainingFolderError",
+    "member_name",
     "train",
+    "train_ensemble",
 ]
 
 TRAINING_STATE = "training_state.pt"
@@ -603,6 +615,78 @@ def train(
             report.test_loss = meta["final"].get("test_loss")
     report.wall_s = time.perf_counter() - started
     return report
+
+
+def member_name(k: int) -> str:
+    """The sub-folder of an ensemble's ``k``-th member."""
+    return f"member-{k}"
+
+
+def train_ensemble(
+    data: str | Path,
+    out: str | Path,
+    config: TrainConfig | None = None,
+    *,
+    members: int,
+    overwrite: bool = False,
+    progress: bool | None = None,
+    log: Callable[[str], None] | None = None,
+    command: str | None = None,
+    warn: Callable[[str], None] | None = None,
+) -> list[TrainReport]:
+    """Train ``members`` networks that differ only in their seed (``config.seed`` and the
+    next ``members − 1``) into ``out/member-K`` and name them in ``out/ensemble.json``.
+
+    Arguments as :func:`train`'s; each member resumes or is left as it is as
+    :func:`train` does.
+
+    Returns:
+        Each member's report, in order.
+
+    Raises:
+        ValueError: fewer than two members.
+        TrainingFolderError: as :func:`train`, or ``out`` holds anything but an
+            ensemble's members and ``ensemble.json`` (or more members than asked).
+    """
+    if members < 2:
+        raise ValueError(f"an ensemble needs at least 2 members, got {members}")
+    config = config or TrainConfig()
+    out = Path(out)
+    names = [member_name(k) for k in range(members)]
+    if out.exists():
+        if not out.is_dir():
+            raise TrainingFolderError(f"--out {out}: exists and is not a folder")
+        stray = sorted(p.name for p in out.iterdir() if p.name not in {*names, ENSEMBLE_JSON})
+        if stray:
+            raise TrainingFolderError(
+                f"--out {out}: holds {', '.join(stray[:5])}, which is not one of this "
+                f"ensemble's {members} members; refusing to write into it"
+            )
+    out.mkdir(parents=True, exist_ok=True)
+    # Named last: until every member is finished the folder is no ensemble to load.
+    (out / ENSEMBLE_JSON).unlink(missing_ok=True)
+    say = log or (lambda _line: None)
+    reports = []
+    for k, name in enumerate(names):
+        say(f"member {k + 1} of {members} (seed {config.seed + k}): {out / name}")
+        member = dataclasses.replace(config, seed=config.seed + k)
+        reports.append(
+            train(
+                data,
+                out / name,
+                member,
+                overwrite=overwrite,
+                progress=progress,
+                log=log,
+                command=command,
+                warn=warn,
+            )
+        )
+    meta = ensemble_meta(names, [load_checkpoint(out / name) for name in names])
+    meta["seeds"] = [config.seed + k for k in range(members)]
+    meta["command"] = command
+    write_text_atomic(out / ENSEMBLE_JSON, json.dumps(meta, indent=2, allow_nan=False) + "\n")
+    return reports
 
 
 def _jsonable(value: Any) -> Any:

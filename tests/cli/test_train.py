@@ -11,29 +11,12 @@ import pyarrow.parquet as pq
 import pytest
 
 from indoorsim.cli import main
-from indoorsim.dataset import DatasetConfig, build_dataset
 from indoorsim.dataset.card import CARD_JSON
-
-# One site, one 30 s walk in the 10 m room: ~60 windows, all in the train split.
-ONE_SITE = DatasetConfig(
-    sites=1,
-    walks_per_site=1,
-    minutes=0.5,
-    seed=3,
-    bundled=["minimal_room"],
-    bundled_share=1.0,
-    imu_rate_hz=50.0,
-    window_samples=50,
-    stride_samples=25,
-    rows_per_row_group=64,
-)
 
 
 @pytest.fixture(scope="module")
-def one_site(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("one_site") / "data"
-    build_dataset(ONE_SITE, out, workers=1, progress=False)
-    return out
+def one_site(one_room_data: Path) -> Path:
+    return one_room_data
 
 
 def _train(data: Path, out: Path) -> list[str]:
