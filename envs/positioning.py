@@ -221,8 +221,9 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       stiffer sideways): a seed gives other observations and errors. Spaces, rewards
       and arguments are unchanged.
     - v5: the WiFi scans changed (a 5 GHz radio of the storey above or below loses
-      13.8 dB more through the slab than a 2.4 GHz one, as concrete does): a seed
-      gives other scans and WiFi errors. Spaces, rewards and arguments are unchanged.
+      32 dB through the slab where a 2.4 GHz one loses 18.5, as concrete's loss
+      grows with frequency): a seed gives other scans and WiFi errors. Spaces,
+      rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym

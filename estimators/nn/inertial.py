@@ -79,6 +79,7 @@ __all__ = [
     "ENSEMBLE_FORMAT",
     "ENSEMBLE_JSON",
     "FRAMES",
+    "MEMBER_PREFIX",
     "MODEL_JSON",
     "PACKAGED_CHECKPOINT",
     "WEIGHTS_FILE",
@@ -99,6 +100,8 @@ CHECKPOINT_FORMAT = "indoorsim-inertial-checkpoint"
 ENSEMBLE_FORMAT = "indoorsim-inertial-ensemble"
 ENSEMBLE_JSON = "ensemble.json"
 """Names an ensemble's member folders (``{"format": ENSEMBLE_FORMAT, "members": [...]}``)."""
+MEMBER_PREFIX = "member-"
+"""An ensemble's members are its sub-folders ``member-0``, ``member-1``, …"""
 CHECKPOINT_VERSION = 1
 MODEL_JSON = "model.json"
 WEIGHTS_FILE = "weights.pt"
@@ -264,7 +267,8 @@ class CheckpointError(ValueError):
 @dataclass(frozen=True)
 class Checkpoint:
     """A loaded checkpoint: the network in eval mode and its ``model.json`` (an
-    ensemble's: its members averaged, and its ``ensemble.json``).
+    ensemble's: its members averaged, and its ``ensemble.json`` with what
+    :func:`ensemble_meta` reads from the members).
 
     Attributes:
         model: the rebuilt network, weights loaded, in eval mode.
@@ -354,9 +358,12 @@ def is_checkpoint(folder: Path) -> bool:
 
 
 def ensemble_meta(members: Sequence[str], checkpoints: Sequence[Checkpoint]) -> dict[str, Any]:
-    """The ``ensemble.json`` of member folders ``members``, loaded as ``checkpoints``:
-    its frame, rate and window (which the members share) and each member's losses."""
+    """What ``ensemble.json`` holds of member folders ``members``, loaded as
+    ``checkpoints``: their frame, rate and window (which they share), each one's
+    final losses, and each one's weights checksum (so that a member retrained after
+    the file was written is noticed)."""
     first = checkpoints[0].meta
+    pairs = list(zip(members, checkpoints, strict=True))
     return {
         "format": ENSEMBLE_FORMAT,
         "format_version": CHECKPOINT_VERSION,
@@ -364,9 +371,8 @@ def ensemble_meta(members: Sequence[str], checkpoints: Sequence[Checkpoint]) -> 
         "frame": first["frame"],
         "imu_rate_hz": first["imu_rate_hz"],
         "window_samples": first["window_samples"],
-        "member_final_losses": {
-            name: ck.meta.get("final") for name, ck in zip(members, checkpoints, strict=True)
-        },
+        "member_final_losses": {name: ck.meta.get("final") for name, ck in pairs},
+        "member_weights_sha256": {name: ck.meta.get("weights_sha256") for name, ck in pairs},
     }
 
 
@@ -391,21 +397,31 @@ def _model_from_meta(meta: Mapping[str, Any], source: str) -> InertialResNet:
 
 
 def load_checkpoint(folder: str | Path | Traversable | None = None) -> Checkpoint:
-    """Rebuild the network of a checkpoint folder from ``model.json`` and load its weights.
+    """Rebuild the network of a checkpoint folder from ``model.json`` and load its weights;
+    of an ensemble folder (``ensemble.json``), every member's, averaged.
 
     Args:
-        folder: the checkpoint folder; None loads the packaged one
+        folder: the checkpoint or ensemble folder; None loads the packaged one
             (:func:`packaged_checkpoint`).
 
     Raises:
         CheckpointError: a missing file, a ``model.json`` that does not
             describe a network this code builds, a ``weights.pt`` that is not
             a flat mapping of tensors or does not match ``model.json`` (its
-            checksum, or the network's parameter names and shapes).
+            checksum, or the network's parameter names and shapes); for an
+            ensemble also an ``ensemble.json`` that is malformed, names a member
+            outside its folder (or twice), or whose members were retrained since
+            it was written or differ in frame, IMU rate or window; and a folder
+            of members without ``ensemble.json`` (an unfinished ensemble).
     """
     root: Traversable = packaged_checkpoint() if folder is None else _traversable(folder)
     if (root / ENSEMBLE_JSON).is_file():
         return _load_ensemble(root)
+    if not (root / MODEL_JSON).is_file() and (root / f"{MEMBER_PREFIX}0").is_dir():
+        raise CheckpointError(
+            f"{root}: an unfinished ensemble (member folders but no {ENSEMBLE_JSON}): run "
+            "the train command that made it again to finish it"
+        )
     return _load_single(root)
 
 
@@ -413,6 +429,8 @@ def _load_ensemble(root: Traversable) -> Checkpoint:
     """An ensemble folder's members, loaded each as :func:`load_checkpoint` does, as one
     :class:`Checkpoint` whose network averages them."""
     source = str(root)
+    if isinstance(root, Path) and (root / ENSEMBLE_JSON).is_symlink():
+        raise CheckpointError(f"{source}/{ENSEMBLE_JSON}: a symbolic link; refused")
     try:
         meta = json.loads(_read(root, ENSEMBLE_JSON).decode("utf-8"))
     except (UnicodeDecodeError, json.JSONDecodeError) as err:
@@ -426,21 +444,47 @@ def _load_ensemble(root: Traversable) -> Checkpoint:
     ):
         raise CheckpointError(
             f"{source}/{ENSEMBLE_JSON}: expected {{'format': {ENSEMBLE_FORMAT!r}, "
-            "'members': [folder names]}"
+            "'members': [folder names], ...}"
+        )
+    version = meta.get("format_version", 1)
+    if not isinstance(version, int) or version > CHECKPOINT_VERSION:
+        raise CheckpointError(
+            f"{source}/{ENSEMBLE_JSON}: format_version {version!r} is not one this indoorsim "
+            f"reads (up to {CHECKPOINT_VERSION})"
         )
     for name in members:
-        # Plain names of sub-folders only: an ensemble never reaches outside itself.
-        plain = isinstance(name, str) and name not in {"", ".", ".."}
-        if not plain or "/" in name or "\\" in name:
-            raise CheckpointError(f"{source}/{ENSEMBLE_JSON}: member {name!r} is not a folder name")
+        _check_member(root, name)
+    if len(set(members)) != len(members):
+        raise CheckpointError(f"{source}/{ENSEMBLE_JSON}: a member is named twice")
     loaded = [_load_single(root / name) for name in members]
+    recorded = meta.get("member_weights_sha256") or {}
+    changed = [
+        name
+        for name, ck in zip(members, loaded, strict=True)
+        if name in recorded and recorded[name] != ck.meta.get("weights_sha256")
+    ]
+    if changed:
+        raise CheckpointError(
+            f"{source}: {', '.join(changed)} changed since {ENSEMBLE_JSON} was written (a "
+            "train command left unfinished?): run it again to finish the ensemble"
+        )
     shared = {(ck.frame, ck.imu_rate_hz, ck.window_samples) for ck in loaded}
     if len(shared) != 1:
         raise CheckpointError(
             f"{source}: members differ in frame, IMU rate or window: {sorted(shared)}"
         )
     model = InertialEnsemble([ck.model for ck in loaded]).eval()
-    return Checkpoint(model=model, meta=ensemble_meta(members, loaded), source=source)
+    return Checkpoint(model=model, meta=meta | ensemble_meta(members, loaded), source=source)
+
+
+def _check_member(root: Traversable, name: object) -> None:
+    """Refuse a member that is not a plain sub-folder of ``root`` (never one reached
+    through a link, which could point anywhere)."""
+    plain = isinstance(name, str) and name not in {"", ".", ".."}
+    if not plain or "/" in name or "\\" in name:
+        raise CheckpointError(f"{root}/{ENSEMBLE_JSON}: member {name!r} is not a folder name")
+    if isinstance(root, Path) and (root / name).is_symlink():
+        raise CheckpointError(f"{root}/{name}: a symbolic link; an ensemble's members are its own")
 
 
 def _load_single(root: Traversable) -> Checkpoint:

@@ -67,6 +67,7 @@ from indoorsim.estimators.nn.inertial import (
     CHECKPOINT_VERSION,
     ENSEMBLE_JSON,
     FRAMES,
+    MEMBER_PREFIX,
     MODEL_JSON,
     WEIGHTS_FILE,
     CheckpointError,
@@ -619,7 +620,7 @@ def train(
 
 def member_name(k: int) -> str:
     """The sub-folder of an ensemble's ``k``-th member."""
-    return f"member-{k}"
+    return f"{MEMBER_PREFIX}{k}"
 
 
 def train_ensemble(
@@ -637,8 +638,11 @@ def train_ensemble(
     """Train ``members`` networks that differ only in their seed (``config.seed`` and the
     next ``members − 1``) into ``out/member-K`` and name them in ``out/ensemble.json``.
 
-    Arguments as :func:`train`'s; each member resumes or is left as it is as
-    :func:`train` does.
+    Arguments as :func:`train`'s; each member resumes, or is left as it is, as
+    :func:`train` does, and ``overwrite`` starts every member afresh. ``ensemble.json``
+    is written once every member is finished; it records each member's weights
+    checksum, so an ensemble whose members were retrained since is refused by
+    :func:`~indoorsim.estimators.nn.inertial.load_checkpoint` until this is run again.
 
     Returns:
         Each member's report, in order.
@@ -656,15 +660,20 @@ def train_ensemble(
     if out.exists():
         if not out.is_dir():
             raise TrainingFolderError(f"--out {out}: exists and is not a folder")
-        stray = sorted(p.name for p in out.iterdir() if p.name not in {*names, ENSEMBLE_JSON})
-        if stray:
+        # Hidden names are the atomic writers' own (a member or ensemble.json being
+        # replaced when a run was killed): theirs to clean, not ours to refuse.
+        stray = sorted(
+            p.name
+            for p in out.iterdir()
+            if p.name not in {*names, ENSEMBLE_JSON} and not p.name.startswith(".")
+        )
+        if stray or (out / ENSEMBLE_JSON).is_dir():
+            what = ", ".join(stray[:5]) if stray else f"a folder named {ENSEMBLE_JSON}"
             raise TrainingFolderError(
-                f"--out {out}: holds {', '.join(stray[:5])}, which is not one of this "
-                f"ensemble's {members} members; refusing to write into it"
+                f"--out {out}: holds {what}: not an ensemble of {members} members "
+                "(--overwrite replaces members, nothing else); choose another --out"
             )
     out.mkdir(parents=True, exist_ok=True)
-    # Named last: until every member is finished the folder is no ensemble to load.
-    (out / ENSEMBLE_JSON).unlink(missing_ok=True)
     say = log or (lambda _line: None)
     reports = []
     for k, name in enumerate(names):

@@ -502,8 +502,10 @@ class RadioSpec(_Spec):
     height) up or down, with BSSIDs of their own — as the floors of an office block
     or a library repeat one plan [E]."""
     floor_loss_db: NonNegFloat = 18.3
-    """COST 231 multi-floor loss L_f of one reinforced-concrete slab (REALISM §4.2);
-    through k slabs, L_f·k^((k+2)/(k+1) − b) with b = 0.46."""
+    """COST 231 multi-floor loss L_f of one reinforced-concrete slab at 2.4 GHz
+    (REALISM §4.2); a radio at f loses L_f·(5 + 4f)/(5 + 4·2.4), as concrete's loss
+    grows with frequency (3GPP TR 38.901; 32.2 dB at 5.18 GHz); through k slabs,
+    L_f·k^((k+2)/(k+1) − b) with b = 0.46. 0: the slabs pass everything."""
     body_loss_db: NonNegFloat = 6.0
     """Loss when the carrier's body stands between the phone and an AP: 3–10 dB
     (REALISM §4.3 [E]); the middle taken."""

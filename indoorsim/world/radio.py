@@ -25,12 +25,11 @@ Mean RSS (dBm) of access point k at a receiver p (REALISM §4.1, DESIGN §4 "Rad
   stand where this floor's do, a storey pitch (the ceiling height) up or down,
   with BSSIDs of their own (:func:`storey_bssid`). Through k slabs they lose
   the COST 231 multi-floor term L_f·k^((k+2)/(k+1) − b), b = 0.46
-  (``radio.floor_loss_db`` = L_f at 2.4 GHz, growing with frequency as concrete's
-  loss does, :func:`slab_loss_at`: a 5 GHz radio loses about 14 dB more), and
-  the walls their path crosses in plan view, counted once as if the floors had
-  the same walls. They are what fills
-  a real scan with weak APs: a phone hears its own floor's few loud APs and
-  many through the slabs.
+  (``radio.floor_loss_db`` = L_f at 2.4 GHz, scaled with frequency as concrete's
+  loss is, :func:`slab_loss_at`: 32 dB for a 5 GHz radio), and the walls their
+  path crosses in plan view, counted once as if the floors had the same walls.
+  They are what fills a real scan with weak APs: a phone hears its own floor's
+  few loud APs and many through the slabs.
 
 The carrier's body is not part of the building: :meth:`RadioModel.body_shadow_db`
 gives the loss ``radio.body_loss_db`` for the APs behind the trunk as seen from
@@ -69,17 +68,18 @@ import scipy.fft
 from numpy.typing import ArrayLike, NDArray
 
 from indoorsim.util.seeding import generator
-from indoorsim.world.materials import MATERIALS
 
 if TYPE_CHECKING:
     from indoorsim.scenario.schema import Scenario
     from indoorsim.world.plan import FloorPlan
 
 __all__ = [
+    "SLAB_REFERENCE_GHZ",
     "MultipathField",
     "RadioModel",
     "ShadowingField",
     "ap_pattern_db",
+    "concrete_loss_3gpp_db",
     "floor_loss_db",
     "free_space_loss_1m_db",
     "multipath_rng",
@@ -130,13 +130,27 @@ def floor_loss_db(slabs: int, per_floor_db: float) -> float:
     return per_floor_db * slabs ** ((slabs + 2) / (slabs + 1) - COST231_FLOOR_B)
 
 
-def slab_loss_at(loss_2g4_db: float, frequency_ghz: float) -> float:
-    """One slab's loss at ``frequency_ghz`` from its loss at 2.4 GHz: a slab is
-    reinforced concrete, whose loss grows with frequency as a concrete wall's does
-    (3GPP TR 38.901's 5 + 4f dB: about 14 dB more at 5.2 GHz than at 2.4 GHz;
-    :data:`~indoorsim.world.materials.MATERIALS`)."""
-    concrete = MATERIALS["concrete"]
-    return loss_2g4_db + concrete.loss_db(frequency_ghz) - concrete.loss_db(2.4)
+def concrete_loss_3gpp_db(frequency_ghz: float) -> float:
+    """3GPP TR 38.901 (Table 7.4.3-1) penetration loss of concrete, 5 + 4f dB (f in GHz)."""
+    return 5.0 + 4.0 * frequency_ghz
+
+
+SLAB_REFERENCE_GHZ = 2.4
+"""The frequency ``radio.floor_loss_db`` is given at: REALISM §4.2 tabulates COST 231's
+18.3 dB in its 2.4 GHz column (COST 231 itself measured at 1.8 GHz)."""
+
+
+def slab_loss_at(loss_db: float, frequency_ghz: float) -> float:
+    """One slab's loss at ``frequency_ghz`` from ``loss_db`` at :data:`SLAB_REFERENCE_GHZ`.
+
+    A slab's loss in dB is its thickness times a per-metre attenuation; the
+    attenuation of concrete grows with frequency as 3GPP's 5 + 4f dB does
+    (:func:`concrete_loss_3gpp_db`), so the loss scales by that ratio: ×1.76
+    (18.3 → 32.2 dB) at 5.18 GHz, ×1.01 at 2.437 GHz. A slab of no loss stays one.
+    """
+    return loss_db * concrete_loss_3gpp_db(frequency_ghz) / concrete_loss_3gpp_db(
+        SLAB_REFERENCE_GHZ
+    )
 
 
 def ap_pattern_db(cos_theta: ArrayLike, null_depth_db: float) -> NDArray[np.float64]:

@@ -231,10 +231,26 @@ def test_cost231_floor_loss_in_closed_form():
 
 
 def test_a_slab_loses_more_at_5_ghz_as_concrete_does():
-    # Concrete: 12 dB at 2.4 GHz, 25.8 dB at 5.2 GHz (3GPP TR 38.901), linear between.
+    # 3GPP's concrete, 5 + 4f dB: 14.6 dB at 2.4 GHz, 25.8 dB at 5.2 GHz; a slab scales so.
     assert slab_loss_at(18.3, 2.4) == pytest.approx(18.3)
-    assert slab_loss_at(18.3, 5.2) == pytest.approx(18.3 + 13.8)
-    assert slab_loss_at(18.3, 3.8) == pytest.approx(18.3 + 6.9)
+    assert slab_loss_at(18.3, 5.2) == pytest.approx(18.3 * 25.8 / 14.6)
+    assert slab_loss_at(14.6, 3.8) == pytest.approx(5.0 + 4.0 * 3.8)
+    assert slab_loss_at(0.0, 5.18) == 0.0  # a slab that passes everything still does
+
+
+def test_a_5_ghz_radio_of_the_storey_above_is_heard_through_a_thicker_slab():
+    radio = {**NO_SHADOWING, **ISOTROPIC, "floors_above": 1, "floors_below": 0}
+    radio["floor_loss_db"] = 15.0
+    aps = [
+        _ap(10, 5, 2.5, tx_power_dbm=20.0, frequency_ghz=f, bssid=b)
+        for f, b in ((2.4, "02:00:00:00:00:10"), (5.2, "02:00:00:00:00:18"))
+    ]
+    model = _model(_hall(30, 10, wifi=aps, radio=radio))
+    rss = model.rss(np.array([[10.0, 5.0, 2.5]]))[0]
+    # Columns: the two own radios, then the storey above's, 3 m straight up.
+    fspl = [free_space_loss_1m_db(2.4), free_space_loss_1m_db(5.2)]
+    up = 20.0 - 10.0 - np.array(fspl) - 20 * np.log10(3.0) - [15.0, 15.0 * 25.8 / 14.6]
+    np.testing.assert_allclose(rss[2:], up, atol=1e-9)
 
 
 def test_the_storeys_above_and_below_repeat_the_floors_aps_through_the_slab():

@@ -503,10 +503,17 @@ class Draft:
         until the floor has one AP per :data:`AP_FLOOR_AREA_M2` (drawn per building),
         the APs already placed counted first."""
         per_ap = self.rng.uniform(*AP_FLOOR_AREA_M2)
-        budget = math.ceil(self.footprint().area / per_ap) - len(self.wifi) // 2
-        large = [d for d in doors if max(d.room.width, d.room.depth) >= min_size_m]
+        # Each AP is two radios at one place.
+        placed = len({tuple(ap["position"]) for ap in self.wifi})
+        budget = math.ceil(self.footprint().area / per_ap) - placed
+        # One AP per room, on the wall facing its first door (a large room has two).
+        first: dict[str, Door] = {}
+        for door in doors:
+            if max(door.room.width, door.room.depth) >= min_size_m:
+                first.setdefault(door.room.name, door)
         # The largest rooms first, a stable sort keeping the doors' order between equals.
-        for door in sorted(large, key=lambda d: -d.room.width * d.room.depth)[: max(0, budget)]:
+        largest = sorted(first.values(), key=lambda d: -d.room.width * d.room.depth)
+        for door in largest[: max(0, budget)]:
             self.wall_ap(door, ssid)
 
     def wall_ap(self, door: Door, ssid: str) -> None:

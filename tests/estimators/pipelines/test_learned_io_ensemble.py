@@ -9,9 +9,10 @@ from pathlib import Path
 import pytest
 import torch
 
+from indoorsim.benchmark.evaluation import check_estimator
 from indoorsim.cli import main
 from indoorsim.dataset.train import TrainConfig, TrainingFolderError, train, train_ensemble
-from indoorsim.estimators.base import SiteContext, make
+from indoorsim.estimators.base import make
 from indoorsim.estimators.nn.inertial import (
     ENSEMBLE_JSON,
     MODEL_JSON,
@@ -80,8 +81,55 @@ def test_the_ensemble_predicts_the_mean_of_its_members(ensemble):
 
 def test_learned_io_runs_on_an_ensemble(ensemble):
     estimator = make("learned-io", checkpoint=str(ensemble))
-    estimator.fit(SiteContext(name="stub", imu_rate_hz=50.0, window_samples=50), [])
+    # The estimator's whole contract: finite estimates, deterministic, missing and
+    # faulty streams survived.
+    check_estimator(estimator)
     assert isinstance(estimator._net.model, InertialEnsemble)
+
+
+def test_a_member_reached_through_a_link_is_refused(ensemble, tmp_path):
+    bad = tmp_path / "bad"
+    shutil.copytree(ensemble, bad)
+    shutil.rmtree(bad / "member-1")
+    (bad / "member-1").symlink_to(ensemble / "member-1")
+    with pytest.raises(CheckpointError, match="symbolic link"):
+        load_checkpoint(bad)
+
+
+@pytest.mark.parametrize(
+    ("change", "match"),
+    [
+        ({"members": ["member-0", "member-0"]}, "named twice"),
+        ({"format_version": 99}, "format_version"),
+    ],
+)
+def test_a_member_twice_or_a_newer_format_is_refused(ensemble, tmp_path, change, match):
+    bad = tmp_path / "bad"
+    shutil.copytree(ensemble, bad)
+    meta = json.loads((bad / ENSEMBLE_JSON).read_text()) | change
+    (bad / ENSEMBLE_JSON).write_text(json.dumps(meta))
+    with pytest.raises(CheckpointError, match=match):
+        load_checkpoint(bad)
+
+
+def test_a_member_retrained_after_ensemble_json_is_refused(room_data, ensemble, tmp_path):
+    out = tmp_path / "io"
+    shutil.copytree(ensemble, out)
+    other = TrainConfig(epochs=1, batch_size=BATCH, seed=9)
+    train(room_data, out / "member-1", other, overwrite=True, progress=False)
+    with pytest.raises(CheckpointError, match="member-1 changed since"):
+        load_checkpoint(out)
+
+
+def test_a_refused_rerun_leaves_the_ensemble_as_it_was(room_data, ensemble, tmp_path):
+    out = tmp_path / "io"
+    shutil.copytree(ensemble, out)
+    before = (out / ENSEMBLE_JSON).read_bytes()
+    other = TrainConfig(epochs=EPOCHS + 1, batch_size=BATCH, seed=4)
+    with pytest.raises(TrainingFolderError, match="another run"):
+        train_ensemble(room_data, out, other, members=2, progress=False)
+    assert (out / ENSEMBLE_JSON).read_bytes() == before
+    assert isinstance(load_checkpoint(out).model, InertialEnsemble)
 
 
 @pytest.mark.parametrize("member", ["../member-0", "/tmp", "..", "", "a\\b", 3])
@@ -121,7 +169,9 @@ def test_an_interrupted_ensemble_is_no_checkpoint_until_the_command_completes_it
     shutil.copytree(ensemble, out)
     shutil.rmtree(out / "member-1")
     (out / ENSEMBLE_JSON).unlink()
-    with pytest.raises(CheckpointError, match="not an inertial-odometry checkpoint"):
+    # A killed write leaves a hidden sibling behind: no reason to refuse the folder.
+    (out / ".member-1.0a1b2c3d.partial").mkdir()
+    with pytest.raises(CheckpointError, match="unfinished ensemble"):
         load_checkpoint(out)
     config = TrainConfig(epochs=EPOCHS, batch_size=BATCH, seed=4)
     reports = train_ensemble(room_data, out, config, members=2, progress=False)
@@ -137,7 +187,7 @@ def test_a_folder_with_anything_else_is_refused(room_data, tmp_path):
     out = tmp_path / "io"
     out.mkdir()
     (out / "notes.txt").write_text("mine")
-    with pytest.raises(TrainingFolderError, match=r"notes\.txt"):
+    with pytest.raises(TrainingFolderError, match=r"holds notes\.txt: not an ensemble"):
         train_ensemble(room_data, out, TrainConfig(epochs=1), members=2, progress=False)
     assert (out / "notes.txt").read_text() == "mine" and not (out / "member-0").exists()
     with pytest.raises(ValueError, match="at least 2"):
