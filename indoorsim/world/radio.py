@@ -148,8 +148,8 @@ def slab_loss_at(loss_db: float, frequency_ghz: float) -> float:
     (:func:`concrete_loss_3gpp_db`), so the loss scales by that ratio: ×1.76
     (18.3 → 32.2 dB) at 5.18 GHz, ×1.01 at 2.437 GHz. A slab of no loss stays one.
     """
-    return loss_db * concrete_loss_3gpp_db(frequency_ghz) / concrete_loss_3gpp_db(
-        SLAB_REFERENCE_GHZ
+    return (
+        loss_db * concrete_loss_3gpp_db(frequency_ghz) / concrete_loss_3gpp_db(SLAB_REFERENCE_GHZ)
     )
 
 
