@@ -192,3 +192,12 @@ def test_a_folder_with_anything_else_is_refused(room_data, tmp_path):
     assert (out / "notes.txt").read_text() == "mine" and not (out / "member-0").exists()
     with pytest.raises(ValueError, match="at least 2"):
         train_ensemble(room_data, tmp_path / "one", TrainConfig(epochs=1), members=1)
+
+
+def test_the_packaged_checkpoint_is_the_documented_ensemble():
+    """Five members, seeds 0 to 4, each complete and unchanged since ensemble.json."""
+    packaged = load_checkpoint()
+    assert isinstance(packaged.model, InertialEnsemble) and len(packaged.model.members) == 5
+    assert packaged.meta["seeds"] == [0, 1, 2, 3, 4]
+    assert "--members 5" in packaged.meta["command"]
+    assert (packaged.frame, packaged.imu_rate_hz, packaged.window_samples) == ("world", 50.0, 100)
