@@ -62,6 +62,7 @@ import torch
 from torch.utils.data import DataLoader, IterableDataset, get_worker_info
 
 from indoorsim._version import __version__
+from indoorsim.dataset.shard import write_atomically
 from indoorsim.estimators.nn.inertial import (
     CHECKPOINT_FORMAT,
     CHECKPOINT_VERSION,
@@ -80,7 +81,7 @@ from indoorsim.estimators.nn.inertial import (
     weights_bytes,
 )
 from indoorsim.estimators.nn.threads import torch_settings
-from indoorsim.io.atomic import write_folder, write_text_atomic
+from indoorsim.io.atomic import write_folder
 
 __all__ = [
     "TRAINING_STATE",
@@ -694,7 +695,8 @@ def train_ensemble(
     meta = ensemble_meta(names, [load_checkpoint(out / name) for name in names])
     meta["seeds"] = [config.seed + k for k in range(members)]
     meta["command"] = command
-    write_text_atomic(out / ENSEMBLE_JSON, json.dumps(meta, indent=2, allow_nan=False) + "\n")
+    text = json.dumps(meta, indent=2, allow_nan=False) + "\n"
+    write_atomically(out / ENSEMBLE_JSON, text.encode("utf-8"))
     return reports
 
 

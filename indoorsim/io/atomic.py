@@ -9,7 +9,6 @@ go through :func:`write_folder`.
 
 from __future__ import annotations
 
-import os
 import secrets
 import shutil
 from collections.abc import Callable
@@ -57,19 +56,6 @@ def write_folder(
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return target
-
-
-def write_text_atomic(path: Path, text: str) -> Path:
-    """Write ``text`` (UTF-8) to the file ``path`` under a hidden sibling name and rename
-    it into place: the file is the old one or the new one, never half written."""
-    tmp = sibling(path, "partial")
-    try:
-        tmp.write_text(text, encoding="utf-8")
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)  # a full disk leaves no half-written file
-        raise
-    return path
 
 
 def sibling(target: Path, purpose: str) -> Path:

@@ -85,6 +85,19 @@ def test_a_phone_at_rest_gives_back_its_noise_bias_and_timing():
     assert "walker" in cal.not_measured
 
 
+def _corridor_walk(walker: WalkerParams, seed: int, **options: float) -> Recording:
+    """``walker`` along the Han2023 corridor with a handheld Nexus 5X."""
+    return simulate(
+        load_site("han2023_corridor"),
+        route="trajectory",
+        mode="handheld",
+        device="nexus_5x",
+        seed=seed,
+        walker=walker,
+        **options,
+    )
+
+
 @pytest.fixture(scope="module")
 def walked() -> tuple[Recording, WalkerParams]:
     # Standing 8 s first, as a surveyor waits for the phone to settle: the hand's
@@ -92,14 +105,7 @@ def walked() -> tuple[Recording, WalkerParams]:
     # magnetometer's noise floor (3 s of standing left 0–2 s, and noise readings
     # 25 % off on some seeds).
     walker = WalkerParams(height_m=1.85, speed_mps=1.1, stand_start_s=8.0)
-    rec = simulate(
-        load_site("han2023_corridor"),
-        route="trajectory",
-        mode="handheld",
-        device="nexus_5x",
-        seed=3,
-        walker=walker,
-    )
+    rec = _corridor_walk(walker, seed=3)
     # Waypoints as a real survey marks them: the walker's position every 5 s.
     truth = rec.truth
     t = truth.index.to_numpy(dtype=float)
@@ -134,15 +140,7 @@ def test_a_simulated_walk_gives_back_its_walker_rates_and_radio(walked):
 
 def test_a_walker_standing_turned_before_its_first_step_is_given_back():
     walker = WalkerParams(stand_start_s=4.0, start_turn_deg=-25.0, start_turn_s=2.0)
-    rec = simulate(
-        load_site("han2023_corridor"),
-        route="trajectory",
-        mode="handheld",
-        device="nexus_5x",
-        seed=4,
-        walker=walker,
-        duration_s=30.0,
-    )
+    rec = _corridor_walk(walker, seed=4, duration_s=30.0)
     cal = calibrate(rec)
     # The phone's own turn in the hand and the gyro's bias add a degree or two.
     assert cal.walker.start_turn_deg == pytest.approx(-25.0, abs=3.0)
