@@ -152,6 +152,8 @@ def _run_import_plan(args: argparse.Namespace) -> int:
                 "--mode handheld --device nexus_5x (the nearest built-in profile to the "
                 "traces' OPPO PBCM10)"
             )
+    # The scenario's folder is made, as the data set's and the leaderboard's --out are.
+    out.parent.mkdir(parents=True, exist_ok=True)
     dump_scenario(scenario, out)
     print(f"wrote {out} ({time.perf_counter() - start:.2f} s in all)")
     return 0

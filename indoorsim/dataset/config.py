@@ -16,7 +16,7 @@ from __future__ import annotations
 import json
 from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
@@ -89,6 +89,12 @@ class WalkerRanges(_Strict):
     asymmetry: Range = Range(low=-0.03, high=0.03)
     stop_rate_per_min: Range = Range(low=0.0, high=0.5)
     """Mid-walk stops per minute of walking (Poisson)."""
+    vigour: Literal["real", "default"] = "real"
+    """``"real"``: each walk takes the vigour (bounce, loading peak, heel strikes) of
+    one real walker, drawn from :mod:`indoorsim.walker.real_walkers`' table of
+    calibrated real recordings; ``"default"``: every walk the ordinary adult's of
+    :class:`~indoorsim.walker.gait.WalkerParams` (one bounce, the other two drawn
+    inside the gait)."""
 
     @model_validator(mode="after")
     def _realistic(self) -> WalkerRanges:

@@ -15,7 +15,8 @@ Sites: the first ``round(sites · bundled_share)`` come from the scenarios of
 the others are procedural buildings whose kinds take turns through
 ``generated_kinds``, each from its own generator seed.
 
-Walks: per walk a device, walker parameters drawn from the configured ranges,
+Walks: per walk a device, walker parameters drawn from the configured ranges
+and (by default) one real walker's vigour,
 a carrying-mode schedule (a random first mode, then changes at Poisson times
 of rate ``mode_changes_per_minute``, each stretch at least ``min_mode_s``
 long), a seed for the route and a seed for the simulation. The route itself
@@ -34,6 +35,7 @@ import numpy as np
 
 from indoorsim.dataset.config import DatasetConfig, Range, is_yaml_file
 from indoorsim.util.seeding import generator
+from indoorsim.walker.real_walkers import draw_real_vigour
 from indoorsim.walker.schedule import ModeSchedule
 
 __all__ = ["Plan", "ShardSpec", "SiteSpec", "WalkSpec", "make_plan", "split_sites"]
@@ -41,7 +43,7 @@ __all__ = ["Plan", "ShardSpec", "SiteSpec", "WalkSpec", "make_plan", "split_site
 # Seeding phase of the data-set plan, beside indoorsim.util.seeding's WALK = 0 and
 # SURVEY = 1, so that no plan stream coincides with a walk's or a survey's.
 PLAN_PHASE = 2
-_SITES, _WALKS, _BUNDLED_ORDER, _MODE_PARAMS = 0, 1, 2, 3
+_SITES, _WALKS, _BUNDLED_ORDER, _MODE_PARAMS, _VIGOUR = 0, 1, 2, 3, 4
 _MAX_SEED = 2**63 - 1
 
 
@@ -221,6 +223,9 @@ def _walk(config: DatasetConfig, site: int, j: int) -> WalkSpec:
             "stop_rate_per_min",
         )
     }
+    if ranges.vigour == "real":
+        # Its own stream: choosing the vigour moves no other draw of the walk.
+        walker |= draw_real_vigour(_rng(config.seed, _VIGOUR, site, j))
     # The schedule draws as many numbers as it has changes: its own stream.
     modes = _mode_schedule(config, np.random.default_rng(int(rng.integers(_MAX_SEED))))
     route_seed = int(rng.integers(_MAX_SEED))

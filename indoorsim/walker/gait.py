@@ -223,6 +223,14 @@ class WalkerParams:
     """Step rate of the pymunk body simulation."""
 
     def __post_init__(self) -> None:
+        # A range given as one number fixes it (a calibrated walker, a data set's
+        # drawn one); a list (YAML, JSON) is the range.
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            if f.name in _RANGE_FIELDS and isinstance(value, (int, float)):
+                object.__setattr__(self, f.name, (float(value), float(value)))
+            elif f.name in _RANGE_FIELDS and isinstance(value, list):
+                object.__setattr__(self, f.name, tuple(value))
         checks = {
             "height_m": 1.0 <= self.height_m <= 2.3,
             "speed_mps": self.speed_mps is None or 0.1 < self.speed_mps <= 3.0,
@@ -257,6 +265,12 @@ class WalkerParams:
         if bad:
             values = ", ".join(f"{name}={getattr(self, name)!r}" for name in bad)
             raise ValueError(f"WalkerParams out of range: {values}")
+
+
+_RANGE_FIELDS = frozenset(
+    f.name for f in dataclasses.fields(WalkerParams) if str(f.type).startswith("tuple")
+)
+"""The fields of :class:`WalkerParams` that are ranges drawn per walk."""
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

@@ -31,6 +31,10 @@ def test_a_synthetic_plan_becomes_a_scenario(tmp_path, capsys):
     assert main(["import-plan", str(geo), "--out", str(out)]) == 2
     assert _one_line_error(capsys) == f"--out {out}: already exists; pass --overwrite to replace it"
     assert main(["import-plan", str(geo), "--seed", "4", "--out", str(out), "--overwrite"]) == 0
+    # A folder not there yet is made, as the documented learned-io recipe needs.
+    nested = tmp_path / "plans" / "ms" / "plan.yaml"
+    assert main(["import-plan", str(geo), "--out", str(nested)]) == 0
+    assert load_scenario(nested).name == scenario.name
 
 
 @pytest.mark.parametrize(

@@ -113,3 +113,21 @@ def test_a_resumed_data_set_refuses_a_scenario_file_that_changed(tmp_path):
     plain = tmp_path / "plain"
     prepare_folder(plain, DatasetConfig(**BASE).resolved())
     assert not (plain / INPUTS_FILE).exists()
+
+
+def test_each_walk_takes_one_real_walkers_vigour_by_default_and_nothing_else_moves():
+    from indoorsim.walker.real_walkers import VIGOUR_FIELDS, load_real_walkers
+
+    rows = {tuple(r) for r in load_real_walkers()[list(VIGOUR_FIELDS)].itertuples(index=False)}
+    real, plain = _plan(sites=4), _plan(sites=4, walker={"vigour": "default"})
+    drawn = [tuple(w.walker[name] for name in VIGOUR_FIELDS) for w in real.walks]
+    assert set(drawn) <= rows and len(set(drawn)) > 1
+    for a, b in zip(real.walks, plain.walks, strict=True):
+        assert not set(VIGOUR_FIELDS) & set(b.walker)
+        assert {k: v for k, v in a.walker.items() if k not in VIGOUR_FIELDS} == b.walker
+        assert (a.device, a.modes, a.seed, a.route_seed) == (
+            b.device,
+            b.modes,
+            b.seed,
+            b.route_seed,
+        )

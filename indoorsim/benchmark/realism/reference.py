@@ -34,8 +34,10 @@ from indoorsim.benchmark.realism.radio import (
     static_statistics,
 )
 from indoorsim.io.recording import Recording
+from indoorsim.walker.real_walkers import VIGOUR_FIELDS
 
 __all__ = [
+    "HELD_FLAT",
     "LIGHT_MODE",
     "MAGNETIC_MODE",
     "MAGNETIC_SOURCES",
@@ -56,6 +58,8 @@ __all__ = [
     "real_motion_table",
     "real_profiles",
     "real_radio_table",
+    "real_walker_rows",
+    "real_walker_table",
     "uji_scans",
 ]
 
@@ -218,6 +222,50 @@ def real_motion_table(realdata: Path) -> pd.DataFrame:
         for source, path, rec, mode in _real_walks(realdata)
     ]
     return pd.DataFrame(rows, columns=["dataset", "walk", "mode", "phone", "licence", *MOTION_KEYS])
+
+
+HELD_FLAT = [(0.0, "handheld", {"pitch_deg": 0.0})]
+"""How the ILC surveyors carried their phones: flat in the hand (their traces' own
+attitude shows it), the mode their walkers' vigour is fitted through."""
+
+
+def real_walker_rows(source: RealSource, paths: list[Path]) -> list[dict]:
+    """One row per real walk whose walker ``indoorsim calibrate`` fits in full: its
+    speed from the waypoints and its vigour converged inside its ranges (a walk too
+    short to measure, or one whose fit ends at a range's end, is left out: it says
+    more of the walk than of the walker)."""
+    from indoorsim.benchmark.realism.calibrate import calibrate  # calibrate simulates walks
+
+    rows = []
+    for path in paths:
+        cal = calibrate(Recording.load(path), name=path.name, mode=HELD_FLAT)
+        w = cal.walker
+        failed = {"walker vigour", "walker vigour, in part"} & set(cal.not_measured)
+        if w.speed_mps is None or failed:
+            continue
+        rows.append(
+            {
+                "dataset": source.name,
+                "walk": path.name,
+                "licence": source.licence,
+                "height_m": w.height_m,
+                "speed_mps": w.speed_mps,
+                # A fitted walker's ranges (loading width, heel strikes) are single values.
+                **{name: float(np.mean(getattr(w, name))) for name in VIGOUR_FIELDS},
+            }
+        )
+    return rows
+
+
+def real_walker_table(realdata: Path) -> pd.DataFrame:
+    """The vigour of the real walkers whose speed is known — the ILC surveyors, their
+    phones held flat — for :mod:`indoorsim.walker.real_walkers`. (The Oxford walks
+    have no positions: without a speed their bounce is not told from their step
+    length.)"""
+    ilc = next(source for source in REAL_SOURCES if source.name == "ms-indoor-location-2020")
+    rows = real_walker_rows(ilc, sorted(realdata.glob(ilc.pattern)))
+    columns = ["dataset", "walk", "licence", "height_m", "speed_mps", *VIGOUR_FIELDS]
+    return pd.DataFrame(rows, columns=columns)
 
 
 def real_magnetic_table(realdata: Path) -> pd.DataFrame:

@@ -46,6 +46,7 @@ from indoorsim.benchmark.realism.reference import (
     real_motion_table,
     real_profiles,
     real_radio_table,
+    real_walker_table,
 )
 from indoorsim.phone.devices import DeviceProfile, get_device
 from indoorsim.phone.sensors import scan_rss
@@ -55,6 +56,7 @@ from indoorsim.simulate import resolve_route, simulate
 from indoorsim.survey import SURVEY_HOLD_M
 from indoorsim.util.provenance import realdata_dir
 from indoorsim.util.seeding import generator
+from indoorsim.walker.real_walkers import REAL_WALKERS_CSV
 from indoorsim.world.site import Site
 
 __all__ = [
@@ -674,6 +676,7 @@ def run_realism(
             real_curves.to_csv(REAL_PROFILES_CSV, index=False, float_format="%.6g")
             real_field.to_csv(REAL_MAGNETIC_CSV, index=False, float_format="%.6g")
             real_radio.to_csv(REAL_RADIO_CSV, index=False, float_format="%.6g")
+            real_walker_table(folder).to_csv(REAL_WALKERS_CSV, index=False, float_format="%.6g")
     else:
         real, real_curves = load_real_motion(), load_real_profiles()
         real_field, real_radio = load_real_magnetic(), load_real_radio()

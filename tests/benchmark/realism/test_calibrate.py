@@ -20,7 +20,12 @@ from indoorsim.benchmark.realism.calibrate import (
 from indoorsim.benchmark.realism.vigour import FIGURES, vigour_powers
 from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import DeviceFileError, get_device
-from indoorsim.phone.sensors import apply_inertial, apply_magnetometer, sample_times
+from indoorsim.phone.sensors import (
+    MAX_JITTER_FRAC,
+    apply_inertial,
+    apply_magnetometer,
+    sample_times,
+)
 from indoorsim.phone.specs import InertialSpec, MagnetometerSpec
 from indoorsim.scenario.load import load_site
 from indoorsim.scenario.schema import MagneticSpec
@@ -83,6 +88,22 @@ def test_a_phone_at_rest_gives_back_its_noise_bias_and_timing():
     bias = np.array([cal.measured[f"gyro.bias_{a}"] for a in "xyz"])
     assert np.abs(bias).max() < 4 * 0.004 and np.abs(bias).max() > 1e-4
     assert "walker" in cal.not_measured
+
+
+def test_a_clock_scattering_more_than_the_simulator_takes_is_held_at_its_limit_and_said():
+    rec, _, _ = _phone_at_rest(30.0)
+    accel = rec.accel.copy()
+    # Each accelerometer sample 0.3 of a period off its slot (uniform, σ ≈ 0.26).
+    offsets = np.random.default_rng(5).uniform(-0.45, 0.45, len(accel)) / 100.0
+    accel.index = np.arange(len(accel)) / 100.0 + offsets
+    scattered = Recording._from_built({**rec.streams, "accel": accel}, {"source": "test"})
+    cal = calibrate(scattered)
+    assert cal.measured["timestamp_jitter_frac"] > MAX_JITTER_FRAC
+    assert cal.device.timestamp_jitter_frac == MAX_JITTER_FRAC
+    assert "held at 0.2" in cal.not_measured["timestamp jitter"]
+    # The profile simulates.
+    sim = simulate(load_site("minimal_room"), route="main", device=cal.device, seed=0)
+    assert len(sim.accel) > 0
 
 
 def _corridor_walk(walker: WalkerParams, seed: int, **options: float) -> Recording:

@@ -23,6 +23,7 @@ from indoorsim.benchmark.realism.reference import (
     real_motion_table,
     real_profiles,
     real_radio_table,
+    real_walker_table,
 )
 from indoorsim.benchmark.realism.report import (
     COMPARED,
@@ -37,6 +38,7 @@ from indoorsim.benchmark.realism.report import (
     simulate_motion,
     write_report,
 )
+from indoorsim.walker.real_walkers import VIGOUR_FIELDS, load_real_walkers
 from tests.conftest import REALDATA
 
 
@@ -120,6 +122,14 @@ def test_the_committed_real_table_is_what_the_real_logs_give():
     committed = load_real_motion()
     assert list(fresh["walk"]) == list(committed["walk"])
     for key in MOTION_KEYS:
+        np.testing.assert_allclose(fresh[key], committed[key], rtol=1e-5, err_msg=key)
+
+
+@pytest.mark.skipif(not REALDATA.is_dir(), reason=f"no real data at {REALDATA}")
+def test_the_committed_real_walkers_are_what_calibrating_the_real_logs_gives():
+    fresh, committed = real_walker_table(REALDATA), load_real_walkers()
+    assert list(fresh["walk"]) == list(committed["walk"])
+    for key in ("height_m", "speed_mps", *VIGOUR_FIELDS):
         np.testing.assert_allclose(fresh[key], committed[key], rtol=1e-5, err_msg=key)
 
 
