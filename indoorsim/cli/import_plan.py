@@ -103,6 +103,11 @@ def _run_import_plan(args: argparse.Namespace) -> int:
         raise CliError(f"--out {out}: is a folder; give the scenario file to write")
     if out.exists() and not args.overwrite:
         raise CliError(f"--out {out}: already exists; pass --overwrite to replace it")
+    # The scenario's folder is made, as the data set's and the leaderboard's --out are.
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise CliError(f"--out {out}: cannot make its folder ({err.strerror})") from None
     floor_info = args.floor_info or args.geojson.parent / "floor_info.json"
     start = time.perf_counter()
     try:
@@ -152,8 +157,6 @@ def _run_import_plan(args: argparse.Namespace) -> int:
                 "--mode handheld --device nexus_5x (the nearest built-in profile to the "
                 "traces' OPPO PBCM10)"
             )
-    # The scenario's folder is made, as the data set's and the leaderboard's --out are.
-    out.parent.mkdir(parents=True, exist_ok=True)
     dump_scenario(scenario, out)
     print(f"wrote {out} ({time.perf_counter() - start:.2f} s in all)")
     return 0

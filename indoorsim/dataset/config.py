@@ -77,7 +77,8 @@ class WalkerRanges(_Strict):
     """Ranges of the pedestrian parameters (REALISM §5), one draw per walk.
 
     Every other :class:`~indoorsim.walker.gait.WalkerParams` field keeps its
-    default (an ordinary adult's figures, themselves ranges drawn inside the gait).
+    default (an ordinary adult's figures, themselves ranges drawn inside the gait),
+    but for the vigour, which ``vigour`` takes from real walkers by default.
     """
 
     height_m: Range = Range(low=1.50, high=1.95)
@@ -94,7 +95,8 @@ class WalkerRanges(_Strict):
     one real walker, drawn from :mod:`indoorsim.walker.real_walkers`' table of
     calibrated real recordings; ``"default"``: every walk the ordinary adult's of
     :class:`~indoorsim.walker.gait.WalkerParams` (one bounce, the other two drawn
-    inside the gait)."""
+    inside the gait). A data set started before this setting existed was made with
+    ``"default"``: resuming it needs ``walker: {vigour: default}``."""
 
     @model_validator(mode="after")
     def _realistic(self) -> WalkerRanges:

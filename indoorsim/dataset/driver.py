@@ -89,6 +89,7 @@ from indoorsim.dataset.shard import (
     sha256_file,
     shard_is_complete,
 )
+from indoorsim.walker.real_walkers import REAL_WALKERS_CSV
 
 __all__ = [
     "BuildReport",
@@ -198,9 +199,18 @@ def _write_json(path: Path, data: Any) -> None:
 
 
 def input_files(config: DatasetConfig) -> dict[str, str]:
-    """SHA-256 of each scenario and device file the configuration names, by its path as given."""
+    """SHA-256 of each file the plan reads: each scenario and device file the
+    configuration names, by its path as given, and with real walkers' vigour their
+    table (by its name in the package)."""
     named = [*(config.bundled or []), *config.devices]
-    return {name: sha256_file(Path(name)) for name in named if is_yaml_file(name)}
+    files = {name: sha256_file(Path(name)) for name in named if is_yaml_file(name)}
+    if config.walker.vigour == "real":
+        files[REAL_WALKERS_INPUT] = sha256_file(REAL_WALKERS_CSV)
+    return files
+
+
+REAL_WALKERS_INPUT = "indoorsim/walker/real_walkers.csv"
+"""How ``inputs.json`` names the real walkers' table."""
 
 
 def _check_inputs(out: Path, config: DatasetConfig) -> None:
@@ -250,6 +260,9 @@ def prepare_folder(out: Path, config: DatasetConfig) -> None:
             raise DatasetFolderError(
                 f"{stored_path}: unreadable ({err}); remove the folder"
             ) from None
+        if isinstance(stored, dict) and isinstance(stored.get("walker"), dict):
+            # A data set started before walkers took real vigour was made without it.
+            stored["walker"].setdefault("vigour", "default")
         diff = (
             config_difference(stored, wanted) if isinstance(stored, dict) else ["<not a mapping>"]
         )

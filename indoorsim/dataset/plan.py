@@ -1,13 +1,14 @@
 """The plan of a data set: which sites, which walks, which shard holds which walks.
 
 :func:`make_plan` is a pure function of a resolved
-:class:`~indoorsim.dataset.config.DatasetConfig`: the same configuration gives
-the same plan on any machine, before any simulation runs. Every random choice
-draws from a generator keyed by the configuration's seed and the *identity* of
-what it decides — ``(seed, site index)`` for a site, ``(seed, site index,
-walk index)`` for a walk — never by shard, worker or execution order. Changing
-``walks_per_shard`` regroups the same walks; adding sites or walks leaves the
-existing ones as they were.
+:class:`~indoorsim.dataset.config.DatasetConfig` and the packaged real walkers'
+table it draws vigour from (whose checksum the driver keeps in ``inputs.json``):
+the same configuration gives the same plan on any machine, before any simulation
+runs. Every random choice draws from a generator keyed by the configuration's
+seed and the *identity* of what it decides — ``(seed, site index)`` for a site,
+``(seed, site index, walk index)`` for a walk — never by shard, worker or
+execution order. Changing ``walks_per_shard`` regroups the same walks; adding
+sites or walks leaves the existing ones as they were.
 
 Sites: the first ``round(sites · bundled_share)`` come from the scenarios of
 ``bundled`` — bundled names or scenario files such as an imported real floor —

@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -223,14 +224,8 @@ class WalkerParams:
     """Step rate of the pymunk body simulation."""
 
     def __post_init__(self) -> None:
-        # A range given as one number fixes it (a calibrated walker, a data set's
-        # drawn one); a list (YAML, JSON) is the range.
-        for f in dataclasses.fields(self):
-            value = getattr(self, f.name)
-            if f.name in _RANGE_FIELDS and isinstance(value, (int, float)):
-                object.__setattr__(self, f.name, (float(value), float(value)))
-            elif f.name in _RANGE_FIELDS and isinstance(value, list):
-                object.__setattr__(self, f.name, tuple(value))
+        for name in _RANGE_FIELDS:
+            object.__setattr__(self, name, _as_range(name, getattr(self, name)))
         checks = {
             "height_m": 1.0 <= self.height_m <= 2.3,
             "speed_mps": self.speed_mps is None or 0.1 < self.speed_mps <= 3.0,
@@ -267,10 +262,29 @@ class WalkerParams:
             raise ValueError(f"WalkerParams out of range: {values}")
 
 
-_RANGE_FIELDS = frozenset(
-    f.name for f in dataclasses.fields(WalkerParams) if str(f.type).startswith("tuple")
+_RANGE_FIELDS = tuple(
+    f.name for f in dataclasses.fields(WalkerParams) if isinstance(f.default, tuple)
 )
-"""The fields of :class:`WalkerParams` that are ranges drawn per walk."""
+"""The fields of :class:`WalkerParams` that are ranges (low, high) drawn per walk."""
+
+
+def _as_range(name: str, value: object) -> tuple[float, float]:
+    """A range field's value as ``(low, high)``: one number fixes it (a calibrated
+    walker, a data set's drawn one), two (a tuple, a YAML or JSON list, an array)
+    are the range.
+
+    Raises:
+        ValueError: anything else, naming the field.
+    """
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        return (float(value), float(value))
+    if isinstance(value, (tuple, list, np.ndarray)) and len(value) == 2:
+        low, high = value
+        if all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in (low, high)):
+            return (float(low), float(high))
+    raise ValueError(
+        f"WalkerParams {name}: a range is one number or two (low, high), got {value!r}"
+    )
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)

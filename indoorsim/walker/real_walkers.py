@@ -3,11 +3,13 @@
 A walker's vigour — the pelvis's bounce (``bounce_fraction``), the width of the
 loading peak in double support (``loading_width``) and the heel-strike jolts
 (``heel_strike_mps2``) — sets how hard a phone is shaken at a given speed. Real
-walkers differ in it by more than a factor of two at the same speed, and the
-three go together: a walker who bounces more has a broader loading peak. A
+walkers differ in it by more than a factor of two at the same speed, and a
+walker's three go together (they are fitted together, so a walk takes all three
+of one walker, never a mix). A
 model trained on walkers of one vigour reads a vigorous walker's bounce as
 speed (a learned-io network overestimated the distance of the twins of the
-four most vigorous real surveyors by 10–35 %; ``leaderboards/commentary.md``).
+four most vigorous real surveyors by 10–35 %: ``leaderboards/commentary.md``, and
+``indoorsim/estimators/pipelines/learned_io.py``'s docstring).
 
 ``real_walkers.csv`` beside this module holds the vigour ``indoorsim
 calibrate`` fits to real recordings with known speed, one row per walk whose
@@ -33,15 +35,33 @@ VIGOUR_FIELDS = ("bounce_fraction", "loading_width", "heel_strike_mps2")
 """The :class:`~indoorsim.walker.gait.WalkerParams` fields a real walker's row sets."""
 
 
-@cache
 def _table(path: Path) -> pd.DataFrame:
+    # Read again when the file changes (a refreshed reference in the same process).
+    stat = path.stat()
+    return _read_table(path, stat.st_mtime_ns, stat.st_size)
+
+
+@cache
+def _read_table(path: Path, _mtime_ns: int, _size: int) -> pd.DataFrame:
+    from indoorsim.walker.gait import WalkerParams  # gait is the heavier module
+
     table = pd.read_csv(path)
     missing = [c for c in ("dataset", "walk", "licence", *VIGOUR_FIELDS) if c not in table]
     if missing:
         raise ValueError(f"{path}: the real walkers' table lacks the columns {missing}")
-    values = table[list(VIGOUR_FIELDS)].to_numpy(dtype=float)
-    if not len(table) or not np.isfinite(values).all():
-        raise ValueError(f"{path}: the real walkers' table is empty or has a missing value")
+    if not len(table):
+        raise ValueError(f"{path}: the real walkers' table is empty")
+    for i, row in table.iterrows():
+        # Line i + 2 of the file: the header is line 1.
+        try:
+            values = [float(row[name]) for name in VIGOUR_FIELDS]
+            if not np.isfinite(values).all():
+                raise ValueError("a missing value")
+            WalkerParams(**dict(zip(VIGOUR_FIELDS, values, strict=True)))
+        except (TypeError, ValueError) as err:
+            raise ValueError(f"{path}, line {i + 2} ({row['walk']}): {err}") from None
+        if not str(row["licence"]).strip() or pd.isna(row["licence"]):
+            raise ValueError(f"{path}, line {i + 2} ({row['walk']}): no licence")
     return table
 
 
@@ -50,7 +70,8 @@ def load_real_walkers(path: Path = REAL_WALKERS_CSV) -> pd.DataFrame:
     fitted, and its vigour (:data:`VIGOUR_FIELDS`), one row per real walk.
 
     Raises:
-        ValueError: the table lacks a column or a value.
+        ValueError: the table lacks a column, a row a value or a licence, or a row's
+            vigour is no walker's (its line named).
     """
     return _table(Path(path)).copy()
 

@@ -109,10 +109,43 @@ def test_a_resumed_data_set_refuses_a_scenario_file_that_changed(tmp_path):
     plan_file.write_text(plan_file.read_text().replace("minimal", "minimal-edited", 1))
     with pytest.raises(DatasetFolderError, match=r"(?s)input file changed.*imported\.yaml: sha256"):
         prepare_folder(out, config)
-    # A data set of built-in names only writes no such file.
+    # A data set of built-in names and the ordinary vigour writes no such file.
     plain = tmp_path / "plain"
-    prepare_folder(plain, DatasetConfig(**BASE).resolved())
+    prepare_folder(plain, DatasetConfig(**BASE, walker={"vigour": "default"}).resolved())
     assert not (plain / INPUTS_FILE).exists()
+
+
+def test_the_real_walkers_table_is_an_input_file_and_an_older_folder_resumes_as_made(
+    tmp_path, monkeypatch
+):
+    """The plan reads the real walkers' table, so the folder keeps its checksum; a data set
+    started before walkers took real vigour was made without it, and resumes so."""
+    import json
+
+    from indoorsim.dataset import driver
+    from indoorsim.dataset.driver import INPUTS_FILE, DatasetFolderError, prepare_folder
+    from indoorsim.walker.real_walkers import load_real_walkers
+
+    out = tmp_path / "data"
+    prepare_folder(out, DatasetConfig(**BASE).resolved())
+    stored = json.loads((out / INPUTS_FILE).read_text())
+    assert list(stored) == [driver.REAL_WALKERS_INPUT]
+    # A refreshed table would mix two populations of walkers in one data set.
+    table = tmp_path / "walkers.csv"
+    load_real_walkers().iloc[:3].to_csv(table, index=False)
+    monkeypatch.setattr(driver, "REAL_WALKERS_CSV", table)
+    with pytest.raises(DatasetFolderError, match=r"real_walkers\.csv: sha256"):
+        prepare_folder(out, DatasetConfig(**BASE).resolved())
+    # A folder from before the setting: its config has no walker.vigour.
+    old = tmp_path / "old"
+    config = DatasetConfig(**BASE, walker={"vigour": "default"}).resolved()
+    prepare_folder(old, config)
+    saved = json.loads((old / "config.json").read_text())
+    del saved["walker"]["vigour"]
+    (old / "config.json").write_text(json.dumps(saved))
+    prepare_folder(old, config)  # resumes as it was made
+    with pytest.raises(DatasetFolderError, match=r'walker\.vigour: stored "default"'):
+        prepare_folder(old, DatasetConfig(**BASE).resolved())
 
 
 def test_each_walk_takes_one_real_walkers_vigour_by_default_and_nothing_else_moves():

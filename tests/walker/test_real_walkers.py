@@ -62,8 +62,44 @@ def test_a_range_given_as_one_number_fixes_it_and_a_list_is_the_range():
         WalkerParams(loading_width=0.9)
 
 
-def test_the_table_is_read_once_and_handed_out_as_a_copy():
+def test_the_table_is_handed_out_as_a_copy_and_read_again_when_the_file_changes(tmp_path):
     first = load_real_walkers()
     first.loc[0, "bounce_fraction"] = -1.0
     assert load_real_walkers().loc[0, "bounce_fraction"] > 0
+    path = tmp_path / "walkers.csv"
+    load_real_walkers().to_csv(path, index=False)
+    assert len(load_real_walkers(path)) == len(first)
+    load_real_walkers().iloc[:2].to_csv(path, index=False)
+    assert len(load_real_walkers(path)) == 2
     assert isinstance(first, pd.DataFrame)
+
+
+@pytest.mark.parametrize(
+    ("column", "value", "message"),
+    [
+        ("loading_width", 0.9, "line 3 .*loading_width"),
+        ("bounce_fraction", "brisk", "line 3 .*could not convert"),
+        ("licence", " ", "line 3 .*no licence"),
+    ],
+    ids=["no walker's", "not a number", "no licence"],
+)
+def test_a_bad_row_is_named_by_its_line(tmp_path, column, value, message):
+    table = load_real_walkers().astype({column: object})
+    table.loc[1, column] = value
+    path = tmp_path / "walkers.csv"
+    table.to_csv(path, index=False)
+    with pytest.raises(ValueError, match=message) as err:
+        load_real_walkers(path)
+    assert str(path) in str(err.value)
+
+
+@pytest.mark.parametrize("value", [[0.1], [0.1, 0.12, 0.9], True, "0.1", (0.1, None)], ids=repr)
+def test_a_range_that_is_neither_one_number_nor_two_names_its_field(value):
+    with pytest.raises(ValueError, match="WalkerParams loading_width: a range is one number"):
+        WalkerParams(loading_width=value)
+
+
+def test_numpy_numbers_and_arrays_are_ranges_too():
+    walker = WalkerParams(loading_width=np.float32(0.15), heel_strike_mps2=np.array([2.0, 3.0]))
+    assert walker.loading_width == pytest.approx((0.15, 0.15))
+    assert walker.heel_strike_mps2 == (2.0, 3.0) and isinstance(walker.heel_strike_mps2, tuple)

@@ -93,7 +93,8 @@ def test_a_phone_at_rest_gives_back_its_noise_bias_and_timing():
 def test_a_clock_scattering_more_than_the_simulator_takes_is_held_at_its_limit_and_said():
     rec, _, _ = _phone_at_rest(30.0)
     accel = rec.accel.copy()
-    # Each accelerometer sample 0.3 of a period off its slot (uniform, σ ≈ 0.26).
+    # Each accelerometer sample up to 0.45 of a period off its slot (uniform): the
+    # intervals scatter by about 0.37 of a period, above the sampler's 0.2.
     offsets = np.random.default_rng(5).uniform(-0.45, 0.45, len(accel)) / 100.0
     accel.index = np.arange(len(accel)) / 100.0 + offsets
     scattered = Recording._from_built({**rec.streams, "accel": accel}, {"source": "test"})
