@@ -526,6 +526,7 @@ SIGNALS = {
     "bob_step": "vertical acceleration at the step rate (m/s²)",
     "yaw_stride": "rate of turn at the stride rate (rad/s)",
     "sway_step": "sideways acceleration at the step rate (m/s²)",
+    "roll_jerk": "roll rate against sideways jerk, correlation",
     "mag_std": "‖m‖ std along the path (µT)",
     "mag_std_long": "‖m‖ std at wavelengths over 10 m (µT)",
     "hard_iron": "the magnetometer's residual hard iron, where the turns show it (µT)",

@@ -37,6 +37,8 @@ The keys of the returned dict (NaN where a stream is missing or too short):
 ``bob_step``        rate of turn at the stride rate (rad/s) and sideways
 ``yaw_stride``      acceleration at the step rate (m/s²), levelled by its own
 ``sway_step``       fused attitude (:func:`held_phone_motion`)
+``roll_jerk``       a phone held top-forward: correlation of its roll rate with its
+                    sideways jerk, while walking (:func:`held_phone_motion`)
 ==================  ==========================================================
 """
 
@@ -102,6 +104,7 @@ MOTION_KEYS = (
     "bob_step",
     "yaw_stride",
     "sway_step",
+    "roll_jerk",
 )
 
 _SEGMENT_S = 8.0  # Welch segment: 0.125 Hz bins, several segments per real walk
@@ -301,7 +304,7 @@ def motion_statistics(rec: Recording) -> dict[str, float]:
     return out
 
 
-HELD_KEYS = MOTION_KEYS[-5:]
+HELD_KEYS = MOTION_KEYS[-6:]
 """Keys of :func:`held_phone_motion` (the last of :data:`MOTION_KEYS`)."""
 HELD_MODE = "handheld"
 """The carrying mode whose phone is held top-forward: the only one they are judged in."""
@@ -362,6 +365,15 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
     ``bob_step``     vertical acceleration at the step rate
     ``yaw_stride``   rate of turn about the vertical at the stride rate
     ``sway_step``    sideways acceleration at the step rate
+    ``roll_jerk``    correlation of the roll rate (about the phone's long axis, y)
+                     with the sideways jerk (d a_x/dt), both in the phone's frame,
+                     over the walking parts
+
+    ``roll_jerk`` tells what rolls the phone. Tilting it lets gravity into its x
+    axis against the turn (a roll at ω_y changes a_x by −g·ω_y): left to that, the
+    two are negatively correlated, as in the ILC traces' held phones. A phone
+    rolled as a pendulum by the hand's sideways acceleration correlates
+    positively.
 
     NaN without a rotation vector or gyroscope, or without a whole window. ``sig``:
     ``rec``'s :func:`walking_signals`, when already at hand.
@@ -392,8 +404,29 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
         at_stride = windows.amplitude(w, step_hz / 2.0)
         rows.append([at_step[0], at_stride[1], at_step[2], at_stride[3], at_step[1]])
     if rows:
-        out.update(zip(HELD_KEYS, np.median(rows, axis=0).tolist(), strict=True))
+        out.update(zip(HELD_KEYS[:-1], np.median(rows, axis=0).tolist(), strict=True))
+        out["roll_jerk"] = roll_jerk_correlation(sig.accel, sig.gyro, sig.runs, rate)
     return out
+
+
+def roll_jerk_correlation(
+    accel: NDArray[np.float64], gyro: NDArray[np.float64], runs: list[slice], rate_hz: float
+) -> float:
+    """Pearson correlation of the roll rate (``gyro[:, 1]``) with the sideways jerk
+    (the time derivative of ``accel[:, 0]``) over the samples of ``runs``, each run
+    differentiated on its own; NaN with fewer than three samples or no variation."""
+    parts = [
+        (gyro[run, 1], np.gradient(accel[run, 0]) * rate_hz)
+        for run in runs
+        if run.stop - run.start >= 3
+    ]
+    if not parts:
+        return math.nan
+    roll = np.concatenate([p[0] for p in parts])
+    jerk = np.concatenate([p[1] for p in parts])
+    if roll.std() == 0 or jerk.std() == 0:
+        return math.nan
+    return float(np.corrcoef(roll, jerk)[0, 1])
 
 
 PROFILE_HIST_EDGES = np.linspace(0.0, 40.0, 81)

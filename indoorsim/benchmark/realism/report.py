@@ -96,6 +96,7 @@ COMPARED: dict[str, str] = {
     "bob_step": "held top-forward: vertical acceleration at the step rate (m/s²)",
     "yaw_stride": "held top-forward: rate of turn at the stride rate (rad/s)",
     "sway_step": "held top-forward: sideways acceleration at the step rate (m/s²)",
+    "roll_jerk": "held top-forward: roll rate against sideways jerk, correlation",
 }
 """The statistics judged, with their labels (``walking_s`` is shown, not judged)."""
 

@@ -92,6 +92,25 @@ def test_a_held_phones_surge_sway_bob_and_turn_are_read_in_its_own_walking_frame
     assert held_phone_motion(rec)["sway_stride"] == pytest.approx(0.3, rel=0.01)
 
 
+def test_a_held_phones_roll_against_its_sideways_jerk_in_closed_form():
+    """A phone rolling at ω_y = cos(Ωt) lets gravity into its x axis, a_x = −g·∫ω_y:
+    the jerk is −g·ω_y, a correlation of −1. A sideways shake at another frequency
+    whose jerk is as large as gravity's share halves the covariance's weight: −1/√2."""
+    g, f = 9.81, 1.75
+    rec = _sine_walk(f)
+    t = rec.accel.index.to_numpy()
+    omega = 2 * np.pi * f
+    rec.gyro["y"] = np.cos(omega * t)
+    rec.accel["x"] = -g * np.sin(omega * t) / omega
+    assert held_phone_motion(rec)["roll_jerk"] == pytest.approx(-1.0, abs=1e-3)
+    shake = 2 * np.pi * 3.1
+    rec.accel["x"] += g / shake * np.sin(shake * t)
+    assert held_phone_motion(rec)["roll_jerk"] == pytest.approx(-1 / math.sqrt(2), abs=0.02)
+    # Rolled by the sideways acceleration, as a pendulum would be: positive.
+    rec.accel["x"] = g * np.sin(omega * t) / omega
+    assert held_phone_motion(rec)["roll_jerk"] == pytest.approx(1.0, abs=1e-3)
+
+
 def test_the_stride_profile_of_a_lopsided_walk_is_its_waveform():
     # One foot's steps jolt harder: ‖a‖ = g + 2·cos(2π·2f·t) + 3·cos(2π·f·t) at the
     # stride rate f, largest at t = 0 of each stride.

@@ -65,6 +65,9 @@ INSIDE = {
         "sway_stride",
         "bob_step",
         "yaw_stride",
+        # roll_jerk: the simulated hand rolls the phone as a pendulum under its
+        # sideways acceleration (+0.1 to +0.5), where real held phones' roll shows
+        # gravity leaking in as they tilt (-0.36 to +0.05).
     },
     "calling": {
         "step_hz",
