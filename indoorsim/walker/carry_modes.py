@@ -222,12 +222,15 @@ class Handheld(CarryMode):
     """Distance from the wrist to the centre of mass of hand and phone, along the hand [E]."""
     palm_height_m: float = 0.02
     """Height of that centre of mass above the forearm's axis (the phone lies on the palm) [E]."""
-    thumb_offset_m: float = 0.015
-    """Its offset beside the forearm's axis, toward the thumb: a phone held in one
-    hand reaches a little past the thumb, toward the body's midline [E]. The ILC
-    traces' held phones roll about their long axis at 0.1 rad/s in each band from 1.3
-    to 8 Hz; a 3 cm offset rocked their twins 2.5–3 times harder at 1.3–6 Hz, 1.5 cm
-    rocks them as the real ones."""
+    thumb_offset_m: float = 0.01
+    """Its offset beside the forearm's axis toward the body's midline: a phone held
+    in one hand lies across the palm toward the fingers that wrap it [E]. Vertical
+    jolts roll the phone on it. The ILC traces' held phones roll at 0.08 rad/s at
+    1.3–2.5 Hz and their roll rate runs against their sideways jerk (correlation
+    −0.36 to +0.05: gravity leaks in as they tilt). At 1 cm their twins roll at 0.08
+    and −0.39; at 1.5 cm 0.11 and −0.48. An offset toward the thumb (outward) rolled
+    them the other way, +0.3, where the hand's sideways jolts and the roll kept in
+    step."""
     wrist_gyration_m: float = 0.05
     """Radius of gyration of hand and phone about their centre of mass [E]."""
     wrist_pitch_hz: tuple[float, float] = (3.5, 4.5)
@@ -381,13 +384,17 @@ class Handheld(CarryMode):
         # Sideways, the hand's acceleration turns the phone about the vertical (on the
         # offset along the hand). About the forearm the phone rocks on its centre of
         # mass's offsets from the axis: the vertical acceleration on the offset toward
-        # the thumb, the sideways one on the height above the palm.
+        # the midline, the sideways one on the height above the palm.
         turn = limbs.oscillator(
             -gain * hand_horiz[:, 1], rng.uniform(*self.wrist_turn_hz), damping, rate
         )
-        thumb, palm = -side * self.thumb_offset_m, self.palm_height_m
+        # The centre of mass toward the midline (phone x: −x for the right hand) and
+        # above the palm (phone z). An acceleration a of the hand turns the phone about
+        # its long axis (y) by (x·a_up + z·a_left)/(x² + z² + ρ²): the inertial force
+        # −m·a acts at the offsets (phone x is the body's right).
+        thumb, palm = side * self.thumb_offset_m, self.palm_height_m
         rock = limbs.oscillator(
-            (thumb * hand_across - palm * hand_horiz[:, 1]) / (thumb**2 + palm**2 + rho**2),
+            (thumb * hand_across + palm * hand_horiz[:, 1]) / (thumb**2 + palm**2 + rho**2),
             rng.uniform(*self.wrist_roll_hz),
             damping,
             rate,
