@@ -65,9 +65,8 @@ INSIDE = {
         "sway_stride",
         "bob_step",
         "yaw_stride",
-        # roll_jerk: the simulated hand rolls the phone as a pendulum under its
-        # sideways acceleration (+0.1 to +0.5), where real held phones' roll shows
-        # gravity leaking in as they tilt (-0.36 to +0.05).
+        # roll_jerk: -0.49 on the generated basement (its walker goes at 1.4 m/s),
+        # where real held phones show -0.36 to +0.05; inside on the other three.
     },
     "calling": {
         "step_hz",
