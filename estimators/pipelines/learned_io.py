@@ -45,8 +45,8 @@ carrying modes with changes, each walk with the vigour of one real walker
 traces the real-trace table scores, so their vigour, though never their sensor
 data, is seen in training), the IMU at 50 Hz in 2 s windows every 1 s: 80 427
 windows, 72 sites to train on, 9 to validate, 9 to test. Final losses of the
-members (m²/s², mean of both velocity components): train 0.0347–0.0352, val
-0.0337–0.0354, test 0.0451–0.0470 — an RMS velocity error of about 0.21 m/s per
+members (m²/s², mean of both velocity components): train 0.0348–0.0351, val
+0.0336–0.0352, test 0.0449–0.0471 — an RMS velocity error of about 0.21 m/s per
 axis on the test buildings. Training is deterministic on CPU: the commands give
 the same ``weights.pt`` bytes for the same ``--threads`` and ``--workers`` (add
 ``--overwrite`` to retrain in place; the packaged members were written to a
@@ -69,9 +69,10 @@ ensemble then shipped overshot the four most vigorous surveyors' distance by
 10–35 % and read 2.79 m against 1.89 m on the same twins walking with the
 default vigour. Trained on walkers of the real vigour, one network read the two
 alike (2.37 and 2.21 m). The ensemble shipped (trained after the held phone's
-roll was corrected as well) reads 2.24 m on the calibrated twins (distance
-0.95) and 3.48 m on the real traces (it was 4.04; ``pdr-basic`` 3.91 m; the
-ensemble trained before that correction read 3.30 m) — but it walks only 0.78
+roll was corrected as well) reads 2.26 m on the calibrated twins (distance
+0.95) and 3.27 m on the real traces (it was 4.04; ``pdr-basic`` 3.91 m; the
+ensembles trained before on the same recipe read 3.30 and 3.48 m, the spread of
+a recipe's seeds and of small changes to the data) — but it walks only 0.78
 of their distance (it was 0.96), where its twins walk 0.95: the network takes
 speed partly from the timing between the phone's tilt rates and its
 accelerations (holding the tilt rates at their window mean slowed the earlier
