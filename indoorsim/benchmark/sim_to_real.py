@@ -61,7 +61,7 @@ from indoorsim.benchmark.realism.calibrate import calibrate
 from indoorsim.benchmark.realism.headings import gyro_yaw_rate, leg_headings
 from indoorsim.benchmark.realism.magnetic import hard_iron_residual, magnetic_statistics
 from indoorsim.benchmark.realism.motion import HELD_KEYS, motion_statistics
-from indoorsim.benchmark.realism.reference import MODELLED_MODES
+from indoorsim.benchmark.realism.reference import HELD_FLAT, MODELLED_MODES
 from indoorsim.benchmark.realism.vigour import vigour_powers
 from indoorsim.estimators.frames import wrap_angle
 from indoorsim.estimators.pdr.steps import PeakStepDetector
@@ -328,8 +328,9 @@ ILC_FLOOR = Path("ms-indoor-location-2020", "site1", "F1")
 TWIN_ESTIMATORS = ("start-only", "pdr-basic", "han2023-pdr", "learned-io")
 """The estimators that run on a real log (no floor plan, no surveys)."""
 TWIN_SEEDS = (0, 1, 2)
-TWIN_MODE: list[tuple[float, str, dict[str, float]]] = [(0.0, "handheld", {"pitch_deg": 0.0})]
-"""The traces' surveyors held the phone flat in front of the body."""
+TWIN_MODE = HELD_FLAT
+"""The traces' surveyors held the phone flat in front of the body (the mode their
+walkers' vigour is fitted through for the real walkers' table, too)."""
 TWIN_BASE_DEVICE = "mid_grade"
 """What a trace's calibration cannot show (scale factors, bias drift, light) comes from it."""
 

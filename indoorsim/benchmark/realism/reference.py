@@ -224,7 +224,7 @@ def real_motion_table(realdata: Path) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["dataset", "walk", "mode", "phone", "licence", *MOTION_KEYS])
 
 
-HELD_FLAT = [(0.0, "handheld", {"pitch_deg": 0.0})]
+HELD_FLAT: list[tuple[float, str, dict[str, float]]] = [(0.0, "handheld", {"pitch_deg": 0.0})]
 """How the ILC surveyors carried their phones: flat in the hand (their traces' own
 attitude shows it), the mode their walkers' vigour is fitted through."""
 
