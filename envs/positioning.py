@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v5`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v6`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -224,11 +224,16 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       32 dB through the slab where a 2.4 GHz one loses 18.5, as concrete's loss
       grows with frequency): a seed gives other scans and WiFi errors. Spaces,
       rewards and arguments are unchanged.
+    - v6: the walks changed (the trunk leans forward within each step and its heel
+      strike's jolt peaks with the loading; the held phone nods with the trunk, its
+      wrist is stiffer in flexion and it tilts slowly while walking; the held phone's
+      roll on its thumb-side offset, which came without a bump): a seed gives other
+      observations and errors. Spaces, rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v5")
+        >>> env = gym.make("indoorsim/MinimalRoom-v6")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)

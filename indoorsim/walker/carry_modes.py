@@ -180,9 +180,10 @@ class Handheld(CarryMode):
     motions overlap a little (their directions' cosine is 0.1–0.35): an
     approximation of the arm's coupled modes. The hand's acceleration acts on the
     phone's offset from the wrist and nods it (pitch), turns it sideways (yaw,
-    stiffer) and rocks it (roll) — the nod, at the step rate, is the largest
-    rotation of a real handheld phone. The grip turns the phone a little about the
-    forearm, so the nod shows on more than one phone axis.
+    stiffer) and rocks it (roll). The nod at the step rate, a real held phone's
+    largest rotation, is mostly the trunk's forward lean, which the arm passes on
+    whole while its soft hold keeps the hand in place. The grip turns the phone a
+    little about the forearm, so the nod shows on more than one phone axis.
     """
 
     name: ClassVar[str] = "handheld"
@@ -233,11 +234,14 @@ class Handheld(CarryMode):
     step."""
     wrist_gyration_m: float = 0.05
     """Radius of gyration of hand and phone about their centre of mass [E]."""
-    wrist_pitch_hz: tuple[float, float] = (3.5, 4.5)
-    """Range of the wrist's natural frequency in flexion (the nod), drawn per use [E]:
-    the ILC traces' held phones nod at 0.78 rad/s in the step rate's band (1.3–2.5
-    Hz, median), 0.21 rad/s per m/s² of their bounce; a wrist at 3–4 Hz nodded
-    their twins (walking with the vigour fitted to each trace) 1.35 times harder."""
+    wrist_pitch_hz: tuple[float, float] = (8.0, 10.0)
+    """Range of the wrist's natural frequency in flexion (the nod), drawn per use [E].
+    The ILC traces' flat-held phones pitch at 0.22, 0.19, 0.16 rad/s per m/s² of their
+    vertical acceleration at the step rate and its 2nd and 3rd harmonics, 8°, 20°, 26°
+    past a quarter turn (medians of 16): no resonance below 5.5 Hz. A wrist at 3.5–4.5
+    Hz rang at the 2nd (0.63, 80° off); at 8–10 Hz, damped 0.5–0.7, the twins read
+    0.20, 0.16, 0.19 at 4°, 24°, 56°, the step rate's nod mostly the trunk's lean."""
+    wrist_pitch_damping: tuple[float, float] = (0.5, 0.7)
     wrist_turn_hz: tuple[float, float] = (4.5, 6.0)
     """Range of its natural frequency in radial-ulnar deviation (the sideways turn),
     drawn per use: the wrist is stiffer that way than in flexion, about 1.5–2 times
@@ -247,9 +251,7 @@ class Handheld(CarryMode):
     wrist_roll_hz: tuple[float, float] = (4.5, 6.5)
     """Range of its natural frequency in rotation about the forearm, drawn per use [E]."""
     wrist_damping: tuple[float, float] = (0.3, 0.5)
-    """Range of the wrist's damping ratio, drawn per use [E]. The ILC traces' held
-    phones nod at twice the step rate (2.5–4 Hz) at 0.31 rad/s (median); a wrist
-    damped at 0.15–0.3 rang there at 0.7."""
+    """Range of the wrist's damping ratio in the turn and the rock, drawn per use [E]."""
     grip_roll_deg: float = 12.0
     """Largest turn of the phone about the forearm's axis in the grip, drawn per use [E]."""
     trunk_coupling: tuple[float, float] = (0.2, 0.4)
@@ -276,6 +278,10 @@ class Handheld(CarryMode):
     from its drawn misalignment [E]: walking straight, the ILC traces' phones turn
     2.45° (median) about their 2 s running median heading, integrated from the
     gyro alone, where a hand that only followed the trunk turned 1.7°."""
+    pitch_wander_deg: float = 3.0
+    """RMS of the hand's slow tilt of the screen while walking, over the yaw wander's
+    time scale [E]: the ILC traces' flat-held phones pitch at 0.14 rad/s at 0.3–1.3 Hz
+    (median), a hand without it at 0.04. Standing, the hand holds the screen still."""
     yaw_wander_s: float = 0.25
     """Time scale (the smoothing σ) of that turn: it wanders over a second or two,
     slower than the stride [E]."""
@@ -377,7 +383,7 @@ class Handheld(CarryMode):
         nod = limbs.oscillator(
             -gain * hand_across,
             rng.uniform(*self.wrist_pitch_hz),
-            damping,
+            rng.uniform(*self.wrist_pitch_damping),
             rate,
         )
         grip = math.radians(rng.uniform(-self.grip_roll_deg, self.grip_roll_deg))
@@ -406,14 +412,18 @@ class Handheld(CarryMode):
         wander = math.radians(self.yaw_wander_deg) * limbs.slow_noise(
             n, rate, rng, self.yaw_wander_s
         )
+        tilt = math.radians(self.pitch_wander_deg) * body.gait_envelope
+        tilt *= limbs.slow_noise(n, rate, rng, self.yaw_wander_s)
         rot = limbs.compose(
             frame,
             # The twist first, about the upper arm as the hand's displacement took it.
             limbs.from_rotvec(twist[:, None] * upper_arm),
             limbs.about("x", coupling * body.roll),
+            # The thorax's lean within each step, which the arm holds the hand to.
+            limbs.about("y", body.pitch),
             limbs.body_frame(misalign + wander + turn),
             limbs.about("z", -np.pi / 2),
-            limbs.about("x", math.radians(self.pitch_deg) + swing + nod),
+            limbs.about("x", math.radians(self.pitch_deg) + swing + nod + tilt),
             limbs.about("y", grip + rock),
             limbs.from_rotvec(tremor),
         )

@@ -34,7 +34,15 @@ _G = 9.81  # m/s²
 # real ILC hand-held walks' ‖a‖ (std 1.7–5.8 m/s², per-stride peak-to-peak
 # 6.8–17, crest 2.5–5.7, excess kurtosis up to 7.7) are reached; at 15 ms
 # (10–20 Hz) the forearm filtered the jolt out and the hand read a sinusoid.
-_HS_DELAY_S, _HS_SIGMA_S = 0.02, 0.03
+_HS_SIGMA_S = 0.03
+# At the trunk the jolt peaks with the loading, about 40 ms after contact: the leg's
+# joints and soft tissue carry it up as weight acceptance loads them. The ILC traces'
+# flat-held phones say so: their vertical acceleration's second and third harmonics
+# sit −8° and −5° from the step rate's (median over 16; φ₂ − 2φ₁ and φ₃ − 3φ₁), where
+# a jolt 20 ms after contact put their twins at +4° and +34°, 40 ms at −2° and −2°,
+# 50 ms at −5° and −17°. Nearer the heel, at a thigh's pocket, it comes sooner.
+_TRUNK_JOLT_DELAY_S = 0.04
+_HS_DELAY_S = 0.02
 # The vertical minimum and forward-speed maximum come just after heel strike,
 # in double support (as a fraction of a step).
 _DOUBLE_SUPPORT_PHASE = 0.1
@@ -87,6 +95,9 @@ class IntraStepMotion(NamedTuple):
     """(K,) trunk rotation on top of the heading (rad)."""
     trunk_roll: NDArray[np.float64]
     """(K,) trunk lean toward the stance leg (rad, + to the left)."""
+    trunk_pitch: NDArray[np.float64]
+    """(K,) trunk lean forward (rad, + forward): most in double support, least at
+    the top of the bounce."""
 
 
 def intra_step_motion(
@@ -105,6 +116,7 @@ def intra_step_motion(
     lateral_sway_m: tuple[float, float],
     trunk_yaw_deg: tuple[float, float],
     trunk_roll_deg: tuple[float, float],
+    trunk_pitch_deg: tuple[float, float],
     heel_strike_mps2: tuple[float, float],
     loading_width: tuple[float, float],
     loading_asymmetry: tuple[float, float],
@@ -128,6 +140,8 @@ def intra_step_motion(
         lateral_sway_m: range of the sway amplitude (drawn once per walk).
         trunk_yaw_deg: range of the trunk yaw amplitude (drawn once per walk).
         trunk_roll_deg: range of the trunk's sideways lean amplitude (drawn once per walk).
+        trunk_pitch_deg: range of the trunk's forward lean amplitude within each step
+            (drawn once per walk, after every other draw).
         heel_strike_mps2: range of the heel-strike peak at cruising speed.
         loading_width: range of the width of the vertical acceleration's
             weight-acceptance peak, in steps (drawn once per walk;
@@ -163,14 +177,21 @@ def intra_step_motion(
     )
     width = rng.uniform(*loading_width)
     # The heel strike jolts the pelvis up and brakes it at half that.
-    jolt = impulse_displacement(t, strike_t, hs_up)
+    jolt = impulse_displacement(t, strike_t, hs_up, delay_s=_TRUNK_JOLT_DELAY_S)
+    # The trunk leans forward as heel strike brakes the pelvis beneath it (double
+    # support, the bounce's bottom) and straightens over the stance leg (its top):
+    # in step with the bounce, and in its shape.
+    pitch_amp = math.radians(rng.uniform(*trunk_pitch_deg))
+    wave = bounce_waveform(phase, width)
+    relative = amp[:, 0] / max(float(amp[:, 0].max(initial=0.0)), 1e-12)
     return IntraStepMotion(
         forward=envelope * amp[:, 1] * np.sin(cyc) - 0.5 * jolt,
         lateral=envelope * sway * np.sin(2.0 * np.pi * stride),
-        up=envelope * amp[:, 0] * bounce_waveform(phase, width) + jolt,
+        up=envelope * amp[:, 0] * wave + jolt,
         trunk_yaw=envelope * yaw_amp * np.cos(2.0 * np.pi * stride),
         # Over the stance leg, in phase with the sway toward it.
         trunk_roll=envelope * roll_amp * np.sin(2.0 * np.pi * stride),
+        trunk_pitch=-2.0 * envelope * pitch_amp * relative * wave,
     )
 
 
@@ -192,10 +213,11 @@ def impulse_displacement(
     t_hs: NDArray[np.float64],
     peak: NDArray[np.float64],
     sigma_s: float = _HS_SIGMA_S,
+    delay_s: float = _HS_DELAY_S,
 ) -> NDArray[np.float64]:
     """Displacement (m) whose acceleration is a short pulse of ``peak`` m/s² after each heel strike.
 
-    x(t) = −peak·σ²·exp(−u²/2) with u = (t − t_hs − 20 ms)/σ (σ = ``sigma_s``), so
+    x(t) = −peak·σ²·exp(−u²/2) with u = (t − t_hs − d)/σ (σ = ``sigma_s``, d = ``delay_s``), so
     ẍ = peak·(1 − u²)·exp(−u²/2), a Ricker wavelet: a sharp pulse flanked by
     two shallow opposite lobes, with no net change of velocity and no
     displacement left behind. Smooth at any sample rate of 200 Hz or more.
@@ -207,11 +229,13 @@ def impulse_displacement(
         peak: (N,) acceleration peak of each pulse.
         sigma_s: the pulse's width σ (the soft tissue between an impact and
             what it jolts spreads it: the trunk ≈ 30 ms, a pocket on the thigh 35 ms).
+        delay_s: how long after each heel strike the pulse peaks (the trunk's
+            40 ms, a thigh's 20 ms).
     """
     out = np.zeros(len(t))
     if len(t_hs) == 0:
         return out
-    centre = t_hs + _HS_DELAY_S
+    centre = t_hs + delay_s
     # Each sample gets the pulse centred last before it and the one next after
     # it: the exponents of both in one compiled pass, np.exp on each set, and
     # the sum in another pass.

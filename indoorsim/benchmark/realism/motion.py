@@ -39,6 +39,10 @@ The keys of the returned dict (NaN where a stream is missing or too short):
 ``sway_step``       fused attitude (:func:`held_phone_motion`)
 ``roll_jerk``       a phone held top-forward: correlation of its roll rate with its
                     sideways jerk, while walking (:func:`held_phone_motion`)
+``nod_2nd``         a phone held top-forward: its pitch rate per vertical acceleration
+                    at twice the step rate (rad/s per m/s²; a resonance rings there)
+``bob_phase_2nd``   its vertical acceleration's second harmonic against the step
+                    rate's, φ₂ − 2φ₁ (°; the loading peak's and the jolt's timing)
 ==================  ==========================================================
 """
 
@@ -105,6 +109,8 @@ MOTION_KEYS = (
     "yaw_stride",
     "sway_step",
     "roll_jerk",
+    "nod_2nd",
+    "bob_phase_2nd",
 )
 
 _SEGMENT_S = 8.0  # Welch segment: 0.125 Hz bins, several segments per real walk
@@ -304,7 +310,7 @@ def motion_statistics(rec: Recording) -> dict[str, float]:
     return out
 
 
-HELD_KEYS = MOTION_KEYS[-6:]
+HELD_KEYS = MOTION_KEYS[-8:]
 """Keys of :func:`held_phone_motion` (the last of :data:`MOTION_KEYS`)."""
 HELD_MODE = "handheld"
 """The carrying mode whose phone is held top-forward: the only one they are judged in."""
@@ -345,9 +351,14 @@ class StepWindows:
         """A tapered window's spectrum, zero-padded eightfold, at :attr:`freqs`."""
         return np.fft.rfft(w, 8 * self.n, axis=0)
 
+    def coefficient(self, w: NDArray[np.float64], hz: float) -> NDArray[np.complex128]:
+        """Each column of a tapered window at ``hz`` as a complex amplitude (its modulus
+        the amplitude, its angle the phase at the window's start), by projection."""
+        return self.gain * (np.exp(-2j * np.pi * hz * self.t) @ w)
+
     def amplitude(self, w: NDArray[np.float64], hz: float) -> NDArray[np.float64]:
         """The amplitude of each column of a tapered window at ``hz``, by projection."""
-        return self.gain * np.abs(np.exp(-2j * np.pi * hz * self.t) @ w)
+        return np.abs(self.coefficient(w, hz))
 
 
 def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict[str, float]:
@@ -368,6 +379,13 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
     ``roll_jerk``    correlation of the roll rate (about the phone's long axis, y)
                      with the sideways jerk (d a_x/dt), both in the phone's frame,
                      over the walking parts
+
+    ``nod_2nd``       pitch rate (about the sideways axis) per vertical acceleration
+                     at twice the step rate: |Σ P·A*| / Σ |A|² over the windows'
+                     projections P and A there (rad/s per m/s²)
+    ``bob_phase_2nd`` the vertical acceleration's second harmonic against its
+                     fundamental, the angle of Σ A₂·A₁*² / (|A₂|·|A₁|²) (°, in
+                     −180…180): 0 for a pulse symmetric about its peak
 
     ``roll_jerk`` tells what rolls the phone. Tilting it lets gravity into its x
     axis against the turn (a roll at ω_y changes a_x by −g·ω_y): left to that, the
@@ -393,19 +411,32 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
             acc[:, 0] * ahead[:, 1] - acc[:, 1] * ahead[:, 0],
             acc[:, 2],
             gyro[:, 2],
+            gyro[:, 0] * ahead[:, 1] - gyro[:, 1] * ahead[:, 0],
         ]
     )
     windows = StepWindows(rate)
     band = (windows.freqs > STEP_BAND_HZ[0]) & (windows.freqs < STEP_BAND_HZ[1])
-    rows = []
+    rows, second = [], []
     for w in windows.over(levelled, sig.runs):
         step_hz = windows.freqs[band][np.argmax(np.abs(windows.spectrum(w[:, 2]))[band])]
-        at_step = windows.amplitude(w, step_hz)
-        at_stride = windows.amplitude(w, step_hz / 2.0)
-        rows.append([at_step[0], at_stride[1], at_step[2], at_stride[3], at_step[1]])
+        at_step = windows.coefficient(w, step_hz)
+        at_stride = np.abs(windows.coefficient(w, step_hz / 2.0))
+        at_2nd = windows.coefficient(w, 2.0 * step_hz)
+        rows.append([abs(at_step[0]), at_stride[1], abs(at_step[2]), at_stride[3], abs(at_step[1])])
+        second.append((at_step[2], at_2nd[2], at_2nd[4]))
     if rows:
-        out.update(zip(HELD_KEYS[:-1], np.median(rows, axis=0).tolist(), strict=True))
+        out.update(zip(HELD_KEYS[:5], np.median(rows, axis=0).tolist(), strict=True))
         out["roll_jerk"] = roll_jerk_correlation(sig.accel, sig.gyro, sig.runs, rate)
+        bob, bob_2nd, nod_2nd = (np.array(c) for c in zip(*second, strict=True))
+        power = float(np.sum(np.abs(bob_2nd) ** 2))
+        if power > 0:
+            out["nod_2nd"] = float(abs(np.sum(nod_2nd * np.conj(bob_2nd))) / power)
+        shape = bob_2nd * np.conj(bob) ** 2
+        sizes = np.abs(shape)
+        if (sizes > 0).any():
+            out["bob_phase_2nd"] = math.degrees(
+                np.angle(np.sum(shape[sizes > 0] / sizes[sizes > 0]))
+            )
     return out
 
 

@@ -53,7 +53,9 @@ __all__ = ["FIGURES", "VigourError", "VigourFit", "fit_vigour", "single_mode", "
 _CORRIDOR_SITE = "han2023_corridor"
 # The x arm of its corridor, straight for 51 m.
 _CORRIDOR = [(1.8, 29.8), (53.0, 29.8)]
-_PASSES = 4
+# Passes of the fit: four settled 13 of the 14 ILC traces it fits once the trunk's jolt
+# came with its loading (which feeds the step rate's amplitude); six settle all 14.
+_PASSES = 6
 _SEEDS = (0, 1)
 _BOUNCE_RANGE = (0.2, 2.0)
 _HEEL_RANGE = (0.0, 10.0)
@@ -101,6 +103,24 @@ class VigourFit:
             if value <= low or value >= high:
                 out.append(f"{name} held at {value:.3g}, the end of its range {low}–{high}")
         return out
+
+    def closeness(self) -> tuple[bool, float]:
+        """How far the fit is from the recording, to order passes by: whether a
+        parameter is held at the end of its range, then the largest relative miss of
+        a figure (0: every figure reached exactly)."""
+        at_end = any(
+            value <= low or value >= high
+            for value, (low, high) in (
+                (self.bounce_fraction, _BOUNCE_RANGE),
+                (self.loading_width, _WIDTH_RANGE),
+                (self.heel_strike_mps2, _HEEL_RANGE),
+            )
+        )
+        worst = max(
+            abs(got / max(want, _TINY) - 1.0)
+            for got, want in zip(self.reached, self.target, strict=True)
+        )
+        return at_end, worst
 
     def walker(self, walker: WalkerParams) -> WalkerParams:
         """``walker`` with the fitted vigour."""
@@ -251,7 +271,7 @@ def fit_vigour(
     width = float(np.mean(walker.loading_width))
     heel = float(np.mean(walker.heel_strike_mps2))
     histories: tuple[list, list, list] = ([], [], [])
-    fit = None
+    best = None
     for _ in range(_PASSES):
         trial = dataclasses.replace(
             walker,
@@ -267,6 +287,10 @@ def fit_vigour(
             target=target,
             reached=reached,
         )
+        # The secant steps can overshoot once the figures are reached (the jolts feed
+        # the step rate's amplitude too): the closest pass is the fit.
+        if best is None or fit.closeness() < best.closeness():
+            best = fit
         step, harmonic, jolts = (max(v, _TINY) for v in reached)
         pairs = zip(histories, (bounce, width, heel), (step, harmonic, jolts), strict=True)
         for history, value, figure in pairs:
@@ -290,5 +314,5 @@ def fit_vigour(
         bounce = float(np.clip(bounce, *_BOUNCE_RANGE))
         width = float(np.clip(width, *_WIDTH_RANGE))
         heel = float(np.clip(heel, *_HEEL_RANGE))
-    assert fit is not None
-    return fit
+    assert best is not None
+    return best

@@ -17,7 +17,7 @@ from indoorsim.benchmark.realism.calibrate import (
     white_noise_density,
     write_calibration,
 )
-from indoorsim.benchmark.realism.vigour import FIGURES, vigour_powers
+from indoorsim.benchmark.realism.vigour import FIGURES, VigourFit, vigour_powers
 from indoorsim.io.recording import Recording
 from indoorsim.phone.devices import DeviceFileError, get_device
 from indoorsim.phone.sensors import (
@@ -312,3 +312,24 @@ def test_the_vigours_figures_read_a_bounce_and_its_jolts_exactly():
     first, harmonic, jolts = figures(bounce + 0.5 * np.sqrt(2) * np.sin(2 * np.pi * 9.0 * t))
     assert jolts == pytest.approx(0.5, rel=0.03)
     assert first == pytest.approx(3.0, rel=0.02) and harmonic == pytest.approx(0.3, rel=0.03)
+
+
+def test_the_vigour_fit_keeps_its_closest_pass_not_its_last():
+    """The secant passes can overshoot once the figures are reached: passes are ordered
+    by whether a parameter sits at the end of its range, then by their largest miss."""
+    target = (3.0, 0.4, 0.8)
+
+    def fit(bounce: float, reached: tuple[float, float, float]) -> VigourFit:
+        return VigourFit(
+            bounce_fraction=bounce,
+            loading_width=0.15,
+            heel_strike_mps2=2.5,
+            target=target,
+            reached=reached,
+        )
+
+    close, overshot = fit(1.3, (3.1, 0.41, 0.79)), fit(1.6, (3.6, 0.41, 0.79))
+    at_end = fit(2.0, (3.0, 0.4, 0.8))  # exact, but the bounce is held at its range's end
+    assert close.closeness() == (False, pytest.approx(0.1 / 3.0))
+    assert sorted([overshot, at_end, close], key=VigourFit.closeness) == [close, overshot, at_end]
+    assert not close.misses() and at_end.misses()

@@ -193,3 +193,21 @@ def test_a_coning_phone_drifts_by_the_closed_form_per_stride():
     assert motion_statistics(_coning(0.3, -0.15))["gyro_drift"] == pytest.approx(
         -expected, rel=0.03
     )
+
+
+def test_a_held_phones_nod_and_bob_shape_at_twice_the_step_rate_in_closed_form():
+    """Vertical acceleration 2·cos(ωt) + 0.6·cos(2ωt + 0.5) and a pitch rate of
+    0.4·cos(ωt) + 0.3·cos(2ωt + 1.2): 0.5 rad/s per m/s² at the second harmonic, which
+    sits 0.5 rad (28.6°) from the fundamental's; a pulse symmetric about its peak
+    (all harmonics cosines) reads 0°."""
+    f = 1.75
+    rec = _sine_walk(f)
+    t = rec.accel.index.to_numpy()
+    w = 2 * np.pi * f
+    rec.accel["z"] = 9.81 + 2 * np.cos(w * t) + 0.6 * np.cos(2 * w * t + 0.5)
+    rec.gyro["x"] = 0.4 * np.cos(w * t) + 0.3 * np.cos(2 * w * t + 1.2)
+    held = held_phone_motion(rec)
+    assert held["nod_2nd"] == pytest.approx(0.5, rel=0.02)
+    assert held["bob_phase_2nd"] == pytest.approx(math.degrees(0.5), abs=1.0)
+    rec.accel["z"] = 9.81 + 2 * np.cos(w * t) + 0.6 * np.cos(2 * w * t)
+    assert held_phone_motion(rec)["bob_phase_2nd"] == pytest.approx(0.0, abs=1.0)
