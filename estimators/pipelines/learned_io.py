@@ -45,8 +45,8 @@ carrying modes with changes, each walk with the vigour of one real walker
 traces the real-trace table scores, so their vigour, though never their sensor
 data, is seen in training), the IMU at 50 Hz in 2 s windows every 1 s: 80 427
 windows, 72 sites to train on, 9 to validate, 9 to test. Final losses of the
-members (m²/s², mean of both velocity components): train 0.0348–0.0351, val
-0.0336–0.0352, test 0.0449–0.0471 — an RMS velocity error of about 0.21 m/s per
+members (m²/s², mean of both velocity components): train 0.0343–0.0346, val
+0.0335–0.0350, test 0.0439–0.0461 — an RMS velocity error of about 0.21 m/s per
 axis on the test buildings. Training is deterministic on CPU: the commands give
 the same ``weights.pt`` bytes for the same ``--threads`` and ``--workers`` (add
 ``--overwrite`` to retrain in place; the packaged members were written to a
@@ -68,17 +68,24 @@ showed it: given the vigour fitted to each trace instead of the default, the
 ensemble then shipped overshot the four most vigorous surveyors' distance by
 10–35 % and read 2.79 m against 1.89 m on the same twins walking with the
 default vigour. Trained on walkers of the real vigour, one network read the two
-alike (2.37 and 2.21 m). The ensemble shipped (trained after the held phone's
-roll was corrected as well) reads 2.26 m on the calibrated twins (distance
-0.95) and 3.27 m on the real traces (it was 4.04; ``pdr-basic`` 3.91 m; the
-ensembles trained before on the same recipe read 3.30 and 3.48 m, the spread of
-a recipe's seeds and of small changes to the data) — but it walks only 0.78
-of their distance (it was 0.96), where its twins walk 0.95: the network takes
-speed partly from the timing between the phone's tilt rates and its
-accelerations (holding the tilt rates at their window mean slowed the earlier
-ensemble to 0.56 on the real windows and 0.78 on the twins'), and something in
-the real windows it has not seen in training reads as slow. What, is not yet
-found (``leaderboards/commentary.md``).
+alike (2.37 and 2.21 m).
+
+Why the trunk's lean and the stiff wrist (walks v6). The ensemble trained before
+read the real traces' distance at 0.78 where their twins' read 0.95. Probed window
+by window: with only the step rate's band kept, it read real and twin windows
+alike; what made the twins fast was their vertical acceleration at 2.6–6 Hz and
+their pitch rate's relation to it, which the real phones do not share — the twins'
+wrist rang at twice the step rate (pitch rate per vertical acceleration 0.63 rad/s
+per m/s², real 0.19) and their heel strike's jolt came before the loading peak
+(second and third harmonics +4° and +34° from the step rate's, real −8° and −5°).
+With both corrected (:mod:`indoorsim.walker.carry_modes`,
+:mod:`indoorsim.walker.motion`) and the ensemble retrained, it reads 3.15 m on the
+real traces (``pdr-basic`` 3.91 m; the last ensemble 3.27 m) and 2.24 m on their
+twins, walking 0.83 of the real distance (was 0.78) and 0.95 of the twins'. The
+rest of the gap is not found: the real held phones' pitch at the step rate has as
+much energy again that is not locked to the bounce (0.80 rad/s RMS at 1.3–2.6 Hz
+against the twins' 0.50), which no part of the simulated hand makes yet
+(``leaderboards/commentary.md``).
 
 Per window
 ----------
