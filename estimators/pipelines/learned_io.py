@@ -45,8 +45,8 @@ carrying modes with changes, each walk with the vigour of one real walker
 traces the real-trace table scores, so their vigour, though never their sensor
 data, is seen in training), the IMU at 50 Hz in 2 s windows every 1 s: 80 427
 windows, 72 sites to train on, 9 to validate, 9 to test. Final losses of the
-members (m²/s², mean of both velocity components): train 0.0343–0.0346, val
-0.0335–0.0350, test 0.0439–0.0461 — an RMS velocity error of about 0.21 m/s per
+members (m²/s², mean of both velocity components): train 0.0341–0.0345, val
+0.0334–0.0344, test 0.0436–0.0455 — an RMS velocity error of about 0.21 m/s per
 axis on the test buildings. Training is deterministic on CPU: the commands give
 the same ``weights.pt`` bytes for the same ``--threads`` and ``--workers`` (add
 ``--overwrite`` to retrain in place; the packaged members were written to a
@@ -84,7 +84,7 @@ real traces (``pdr-basic`` 3.91 m; the last ensemble 3.27 m) and 2.24 m on their
 twins, walking 0.83 of the real distance (was 0.78) and 0.95 of the twins'. The
 rest of the gap is not found: the real held phones' pitch at the step rate has as
 much energy again that is not locked to the bounce (0.80 rad/s RMS at 1.3–2.6 Hz
-against the twins' 0.50), which no part of the simulated hand makes yet
+against the twins' 0.61), which no part of the simulated hand makes yet
 (``leaderboards/commentary.md``).
 
 Per window

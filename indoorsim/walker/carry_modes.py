@@ -180,11 +180,10 @@ class Handheld(CarryMode):
     motions overlap a little (their directions' cosine is 0.1–0.35): an
     approximation of the arm's coupled modes. The hand's acceleration acts on the
     phone's offset from the wrist and nods it (pitch), turns it sideways (yaw,
-    stiffer) and rocks it (roll). The nod at the step rate, a real held phone's
-    largest rotation, is mostly the trunk's forward lean, which the arm passes on
-    whole while its soft hold keeps the hand in place. The grip turns the phone a
-    little about the forearm, so the nod shows on more than one phone axis.
-    """
+    stiffer) and rocks it (roll). The nod at the step rate, a real held phone's largest
+    rotation, is mostly the trunk's forward lean, which the arm passes on whole while
+    its soft hold keeps the hand in place. The grip turns the phone a little about
+    the forearm, so the nod shows on more than one phone axis."""
 
     name: ClassVar[str] = "handheld"
     pitch_deg: float = 30.0
@@ -240,8 +239,9 @@ class Handheld(CarryMode):
     vertical acceleration at the step rate and its 2nd and 3rd harmonics, 8°, 20°, 26°
     past a quarter turn (medians of 16): no resonance below 5.5 Hz. A wrist at 3.5–4.5
     Hz rang at the 2nd (0.63, 80° off); at 8–10 Hz, damped 0.5–0.7, the twins read
-    0.20, 0.16, 0.19 at 4°, 24°, 56°, the step rate's nod mostly the trunk's lean."""
+    0.22, 0.18, 0.19 at 3°, 23°, 56°, the step rate's nod mostly the trunk's lean."""
     wrist_pitch_damping: tuple[float, float] = (0.5, 0.7)
+    """Range of the damping ratio of that flexion, drawn per use [E]."""
     wrist_turn_hz: tuple[float, float] = (4.5, 6.0)
     """Range of its natural frequency in radial-ulnar deviation (the sideways turn),
     drawn per use: the wrist is stiffer that way than in flexion, about 1.5–2 times
@@ -419,7 +419,7 @@ class Handheld(CarryMode):
             # The twist first, about the upper arm as the hand's displacement took it.
             limbs.from_rotvec(twist[:, None] * upper_arm),
             limbs.about("x", coupling * body.roll),
-            # The thorax's lean within each step, which the arm holds the hand to.
+            # The thorax's forward lean within each step: the arm passes it on.
             limbs.about("y", body.pitch),
             limbs.body_frame(misalign + wander + turn),
             limbs.about("z", -np.pi / 2),
@@ -436,7 +436,7 @@ class Calling(CarryMode):
     """Held at the ear during a call (REALISM §6.1 calling row, §3.5).
 
     The phone moves with the head. The head rides on the trunk (its bounce,
-    lean and yaw) through the neck, stiff in translation (a damped spring of
+    sideways lean and yaw) through the neck, stiff in translation (a damped spring of
     ``neck_natural_hz``: the heel strikes' harmonics pass, softened), and it
     nods and rocks on the neck: the trunk's acceleration acts on the head's
     centre of mass, ahead of and above the atlas joint, against the neck's

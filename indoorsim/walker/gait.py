@@ -208,8 +208,9 @@ class WalkerParams:
     """Range of the trunk's sideways lean toward the stance leg at stride
     frequency (thorax lateral flexion and pelvic obliquity, ±2–5°) [E]."""
     trunk_pitch_deg: tuple[float, float] = (2.0, 4.0)
-    """Range of the trunk's forward lean within each step (amplitude, at the step
-    rate): most in double support, as heel strike brakes the pelvis under it, least
+    """Range of the trunk's forward lean within each step (half its peak to peak in a
+    step of the walk's median bounce): most in double support, as heel strike brakes
+    the pelvis under it, least
     at the top of the bounce; thorax flexion–extension spans a few degrees in
     walking [E]. A phone held before the chest nods with it: the ILC traces'
     flat-held phones pitch at the step rate with little lag on their vertical

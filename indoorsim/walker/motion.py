@@ -27,7 +27,7 @@ from scipy.interpolate import CubicSpline
 __all__ = ["IntraStepMotion", "bounce_waveform", "impulse_displacement", "intra_step_motion"]
 
 _G = 9.81  # m/s²
-# Heel-strike transients peak this long after contact and last about ±3σ. At
+# Heel-strike transients last about ±3σ (when they peak: below). At
 # the trunk σ = 30 ms puts their energy at 4–10 Hz: the heel pad, the knee and
 # the spine's soft tissue have spread the impact [E]. Hand-held phones demand
 # it: below the forearm's 6 Hz resonance the jolt reaches the hand, and the
@@ -140,19 +140,20 @@ def intra_step_motion(
         lateral_sway_m: range of the sway amplitude (drawn once per walk).
         trunk_yaw_deg: range of the trunk yaw amplitude (drawn once per walk).
         trunk_roll_deg: range of the trunk's sideways lean amplitude (drawn once per walk).
-        trunk_pitch_deg: range of the trunk's forward lean amplitude within each step
-            (drawn once per walk, after every other draw).
+        trunk_pitch_deg: range of the trunk's forward lean within each step, half its
+            peak to peak in a step of the walk's median bounce (drawn once per walk,
+            after every other draw).
         heel_strike_mps2: range of the heel-strike peak at cruising speed.
         loading_width: range of the width of the vertical acceleration's
             weight-acceptance peak, in steps (drawn once per walk;
             :func:`bounce_waveform`).
         loading_asymmetry: range of the relative difference between the bounce
             of left and right steps (drawn once per walk, either leg the stronger).
-        rng: draws the walk's sway, trunk yaw, loading width and asymmetry, and
-            the heel-strike amplitudes.
+        rng: draws the walk's sway, trunk yaw, roll and pitch, loading width and
+            asymmetry, and the heel-strike amplitudes.
 
     Returns:
-        The offsets from the macro track and the trunk yaw.
+        The offsets from the macro track and the trunk's yaw, roll and pitch.
     """
     # Peak-to-peak bounce, capped where fast walking would make its vertical
     # acceleration exceed half of g (the walk-to-run transition lies near g).
@@ -180,10 +181,13 @@ def intra_step_motion(
     jolt = impulse_displacement(t, strike_t, hs_up, delay_s=_TRUNK_JOLT_DELAY_S)
     # The trunk leans forward as heel strike brakes the pelvis beneath it (double
     # support, the bounce's bottom) and straightens over the stance leg (its top):
-    # in step with the bounce, and in its shape.
+    # in step with the bounce, and in its shape; as large as the drawn amplitude in a
+    # step of the walk's median bounce (over every planned step, so that a walk cut
+    # short leans as the whole walk does up to the cut).
     pitch_amp = math.radians(rng.uniform(*trunk_pitch_deg))
     wave = bounce_waveform(phase, width)
-    relative = amp[:, 0] / max(float(amp[:, 0].max(initial=0.0)), 1e-12)
+    typical = float(np.median(bounce)) if len(bounce) else 0.0
+    relative = amp[:, 0] / max(typical, 1e-12)
     return IntraStepMotion(
         forward=envelope * amp[:, 1] * np.sin(cyc) - 0.5 * jolt,
         lateral=envelope * sway * np.sin(2.0 * np.pi * stride),

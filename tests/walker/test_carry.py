@@ -158,8 +158,10 @@ def test_flat_handheld_phone_faces_up_with_its_top_forward(straight_body):
     flat = {"pitch_deg": 0.0, "grip_roll_deg": 0.0}
     phone = carry(straight_body, [(0.0, "handheld", flat)], np.random.default_rng(1))
     z = _rot(phone).apply([0.0, 0.0, 1.0])
-    # The hand nods the phone a few degrees with each step (real: ±4–6°).
-    assert np.degrees(np.arccos(z[:, 2])).max() < 15.0
+    # The hand nods and tilts the phone a few degrees (the 16 ILC traces' flat-held
+    # phones: median tilt 5.6–8.4°, largest 15–38°).
+    tilt = np.degrees(np.arccos(z[:, 2]))
+    assert np.median(tilt) < 10.0 and tilt.max() < 30.0
     y = _rot(phone).apply([0.0, 1.0, 0.0])
     off = np.degrees(np.arccos(np.einsum("ij,ij->i", y, _forward(straight_body))))
     assert off.max() < 25.0  # misalignment is a few degrees (SD 5°)

@@ -170,7 +170,8 @@ def test_same_seed_same_walk_other_seed_other_walk(l_plan, room_to_corridor_end)
         walk(l_plan, room_to_corridor_end, WalkerParams(), np.random.default_rng(s))
         for s in (9, 9, 10)
     ]
-    for field in ("t", "pos", "heading", "yaw", "speed", "step_phase", "stride_phase", "moving"):
+    fields = ("t", "pos", "gait_offset", "heading", "yaw", "roll", "pitch", "speed")
+    for field in (*fields, "step_phase", "stride_phase", "moving"):
         np.testing.assert_array_equal(getattr(runs[0], field), getattr(runs[1], field))
     assert runs[0].steps.equals(runs[1].steps)
     assert not np.array_equal(runs[0].steps["length"], runs[2].steps["length"])
@@ -183,7 +184,8 @@ def test_a_walk_cut_short_is_the_whole_walk_up_to_the_cut(l_plan, room_to_corrid
     assert cut.t[-1] < whole.t[-1] - 2.0
     k = int(np.searchsorted(whole.t, 9.0, side="right"))
     a, b = whole.window(0, k), cut.window(0, k)
-    for name in ("t", "pos", "heading", "yaw", "speed", "step_phase", "gait_envelope"):
+    fields = ("t", "pos", "gait_offset", "heading", "yaw", "roll", "pitch", "speed")
+    for name in (*fields, "step_phase", "gait_envelope"):
         np.testing.assert_allclose(getattr(b, name), getattr(a, name), rtol=0, atol=1e-12)
     assert b.steps.equals(a.steps)
 

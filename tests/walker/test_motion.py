@@ -7,8 +7,10 @@ import itertools
 import numpy as np
 import pytest
 
-from indoorsim.walker.gait import BodyTrajectory, WalkerParams
+from indoorsim.scenario import RouteSpec
+from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
 from indoorsim.walker.motion import impulse_displacement
+from indoorsim.walker.route import plan_route
 
 G = 9.81
 
@@ -64,15 +66,22 @@ def test_impulse_peaks_its_delay_after_each_heel_strike():
         assert t[np.argmax(acc)] == pytest.approx(0.5 + delay, abs=2e-3)
 
 
-def test_the_trunk_leans_forward_at_the_bounces_bottom_within_its_range(straight_body):
+def test_the_trunk_leans_forward_at_the_bounces_bottom_by_its_drawn_amplitude(
+    straight_body, corridor
+):
     """The trunk's forward lean is in step with the bounce: largest where the body centre
-    is lowest (double support), least at the top; its amplitude is the drawn one."""
-    body, params = straight_body, WalkerParams()
+    is lowest (double support), least at the top; in a step of the walk's median bounce
+    it swings by twice the drawn amplitude, peak to peak."""
+    body = straight_body
     strikes = body.steps["t"].to_numpy()
     core = (body.t > strikes[4]) & (body.t < strikes[-5])
-    pitch, up = body.pitch[core], body.gait_offset[core, 2]
-    assert np.corrcoef(pitch, up)[0, 1] < -0.9
-    amplitude = np.degrees(np.ptp(pitch)) / 2
-    assert params.trunk_pitch_deg[0] * 0.9 <= amplitude <= params.trunk_pitch_deg[1] * 1.3
+    assert np.corrcoef(body.pitch[core], body.gait_offset[core, 2])[0, 1] < -0.9
     # Standing, the trunk is upright.
-    assert np.abs(body.pitch[~body.moving & (body.gait_envelope == 0)]).max(initial=0.0) < 1e-12
+    assert np.abs(body.pitch[body.gait_envelope == 0]).max(initial=0.0) < 1e-12
+    route = plan_route(corridor, RouteSpec(waypoints=[(1.0, 1.5), (39.0, 1.5)], speed=1.3))
+    for degrees in (2.0, 3.0):
+        params = WalkerParams(speed_cv=0.0, trunk_pitch_deg=degrees, loading_asymmetry=0.0)
+        fixed = walk(corridor, route, params, np.random.default_rng(4))
+        t, strikes = fixed.t, fixed.steps["t"].to_numpy()[4:-4]
+        swings = [np.ptp(fixed.pitch[(t >= a) & (t < b)]) for a, b in itertools.pairwise(strikes)]
+        assert np.degrees(np.median(swings)) / 2 == pytest.approx(degrees, rel=0.05)

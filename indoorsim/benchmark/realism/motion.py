@@ -367,9 +367,9 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
     The accelerometer and gyroscope are levelled by the phone's own fused
     attitude; "forward" is the phone's y axis levelled, "sideways" the horizontal
     across it. In 4 s windows of walking (half overlapping) the step rate is the
-    vertical acceleration's peak at 1.3–2.8 Hz, and each key is the median over
-    windows of an amplitude (m/s², or rad/s for the yaw rate), read by projection
-    of the Hann-tapered window on that frequency:
+    vertical acceleration's peak at 1.3–2.8 Hz, and each of the first five keys is the
+    median over windows of an amplitude (m/s², or rad/s for the yaw rate), read by
+    projection of the Hann-tapered window on that frequency:
 
     ``surge_step``   forward acceleration at the step rate
     ``sway_stride``  sideways acceleration at the stride rate (half the step rate)

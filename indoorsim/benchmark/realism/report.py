@@ -97,7 +97,7 @@ COMPARED: dict[str, str] = {
     "yaw_stride": "held top-forward: rate of turn at the stride rate (rad/s)",
     "sway_step": "held top-forward: sideways acceleration at the step rate (m/s²)",
     "roll_jerk": "held top-forward: roll rate against sideways jerk, correlation",
-    "nod_2nd": "held top-forward: pitch rate per vertical acceleration, twice the step rate",
+    "nod_2nd": "held top-forward: pitch rate per vertical acceleration, 2× step rate (s)",
     "bob_phase_2nd": "held top-forward: vertical acceleration's 2nd harmonic phase (°)",
 }
 """The statistics judged, with their labels (``walking_s`` is shown, not judged)."""

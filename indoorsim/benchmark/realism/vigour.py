@@ -56,6 +56,8 @@ _CORRIDOR = [(1.8, 29.8), (53.0, 29.8)]
 # Passes of the fit: four settled 13 of the 14 ILC traces it fits once the trunk's jolt
 # came with its loading (which feeds the step rate's amplitude); six settle all 14.
 _PASSES = 6
+_TOLERANCE = 0.1
+"""A figure the fitted walk misses by more than this (relative) is not reached."""
 _SEEDS = (0, 1)
 _BOUNCE_RANGE = (0.2, 2.0)
 _HEEL_RANGE = (0.0, 10.0)
@@ -87,7 +89,7 @@ class VigourFit:
     target: tuple[float, float, float]
     reached: tuple[float, float, float]
 
-    def misses(self, tolerance: float = 0.1) -> list[str]:
+    def misses(self, tolerance: float = _TOLERANCE) -> list[str]:
         """What the fit did not reach: each figure the fitted walk misses by more than
         ``tolerance`` (relative), and each parameter held at the end of its range."""
         out = [
@@ -104,10 +106,11 @@ class VigourFit:
                 out.append(f"{name} held at {value:.3g}, the end of its range {low}–{high}")
         return out
 
-    def closeness(self) -> tuple[bool, float]:
-        """How far the fit is from the recording, to order passes by: whether a
-        parameter is held at the end of its range, then the largest relative miss of
-        a figure (0: every figure reached exactly)."""
+    def closeness(self) -> tuple[bool, bool, float]:
+        """How far the fit is from the recording, to order passes by: whether a figure
+        misses by more than :meth:`misses`' tolerance, then whether a parameter is held
+        at the end of its range, then the largest relative miss of a figure (0: every
+        figure reached exactly)."""
         at_end = any(
             value <= low or value >= high
             for value, (low, high) in (
@@ -120,7 +123,7 @@ class VigourFit:
             abs(got / max(want, _TINY) - 1.0)
             for got, want in zip(self.reached, self.target, strict=True)
         )
-        return at_end, worst
+        return worst > _TOLERANCE, at_end, worst
 
     def walker(self, walker: WalkerParams) -> WalkerParams:
         """``walker`` with the fitted vigour."""

@@ -314,9 +314,11 @@ def test_the_vigours_figures_read_a_bounce_and_its_jolts_exactly():
     assert first == pytest.approx(3.0, rel=0.02) and harmonic == pytest.approx(0.3, rel=0.03)
 
 
-def test_the_vigour_fit_keeps_its_closest_pass_not_its_last():
-    """The secant passes can overshoot once the figures are reached: passes are ordered
-    by whether a parameter sits at the end of its range, then by their largest miss."""
+def test_the_vigour_fit_keeps_its_closest_pass_not_its_last(monkeypatch):
+    """The secant passes can overshoot once the figures are reached: the fit is the pass
+    that reaches them (within the tolerance), inside the parameters' ranges, closest."""
+    from indoorsim.benchmark.realism import vigour
+
     target = (3.0, 0.4, 0.8)
 
     def fit(bounce: float, reached: tuple[float, float, float]) -> VigourFit:
@@ -330,6 +332,15 @@ def test_the_vigour_fit_keeps_its_closest_pass_not_its_last():
 
     close, overshot = fit(1.3, (3.1, 0.41, 0.79)), fit(1.6, (3.6, 0.41, 0.79))
     at_end = fit(2.0, (3.0, 0.4, 0.8))  # exact, but the bounce is held at its range's end
-    assert close.closeness() == (False, pytest.approx(0.1 / 3.0))
-    assert sorted([overshot, at_end, close], key=VigourFit.closeness) == [close, overshot, at_end]
-    assert not close.misses() and at_end.misses()
+    far = fit(1.0, (1.8, 0.4, 0.8))  # inside the ranges, 40 % short
+    assert close.closeness() == (False, False, pytest.approx(0.1 / 3.0))
+    ranked = sorted([far, overshot, at_end, close], key=VigourFit.closeness)
+    assert ranked == [close, at_end, overshot, far]
+    assert not close.misses() and at_end.misses() and far.misses()
+
+    # fit_vigour itself: its second pass lands close, the later ones overshoot.
+    passes = iter([(2.0, 0.3, 0.6), (3.05, 0.4, 0.8), (3.9, 0.5, 1.1), (4.5, 0.6, 1.3)] * 3)
+    monkeypatch.setattr(vigour, "vigour_powers", lambda rec: target)
+    monkeypatch.setattr(vigour, "_walk_powers", lambda walker, schedule, device: next(passes))
+    best = vigour.fit_vigour(None, WalkerParams(), "handheld")
+    assert best.reached == (3.05, 0.4, 0.8) and not best.misses()

@@ -68,8 +68,8 @@ INSIDE = {
         "yaw_stride",
         "nod_2nd",
         "bob_phase_2nd",
-        # roll_jerk: -0.56 on the generated basement (its walker goes at 1.4 m/s) and
-        # -0.364 on the Chen2022 office, where real held phones show -0.36 to +0.05.
+        # roll_jerk: -0.56 on the generated basement (its walker goes at 1.4 m/s), where
+        # real held phones show -0.36 to +0.05; -0.359 on the Chen2022 office, at the edge.
     },
     "calling": {
         "step_hz",
