@@ -79,9 +79,9 @@ wrist rang at twice the step rate (pitch rate per vertical acceleration 0.63 rad
 per m/s², real 0.19) and their heel strike's jolt came before the loading peak
 (second and third harmonics +4° and +34° from the step rate's, real −8° and −5°).
 With both corrected (:mod:`indoorsim.walker.carry_modes`,
-:mod:`indoorsim.walker.motion`) and the ensemble retrained, it reads 3.15 m on the
-real traces (``pdr-basic`` 3.91 m; the last ensemble 3.27 m) and 2.24 m on their
-twins, walking 0.83 of the real distance (was 0.78) and 0.95 of the twins'. The
+:mod:`indoorsim.walker.motion`) and the ensemble retrained, it reads 3.11 m on the
+real traces (``pdr-basic`` 3.91 m; the last ensemble 3.27 m) and 2.22 m on their
+twins, walking 0.82 of the real distance (was 0.78) and 0.95 of the twins'. The
 rest of the gap is not found: the real held phones' pitch at the step rate has as
 much energy again that is not locked to the bounce (0.80 rad/s RMS at 1.3–2.6 Hz
 against the twins' 0.61), which no part of the simulated hand makes yet
