@@ -490,8 +490,8 @@ def walk_signals(rec: Recording) -> dict[str, float]:
             "gyro_rms_2": stats["gyro_rms_2"],
             "gyro_rms_3": stats["gyro_rms_3"],
         }
-        # The harmonic's phase is an angle: a ratio of real to simulated means nothing.
-        | {key: stats[key] for key in HELD_KEYS if key != "bob_phase_2nd"}
+        # Only what the table compares (a phase's real/sim ratio would mean nothing).
+        | {key: stats[key] for key in HELD_KEYS if key in SIGNALS}
         | {"mag_std": field["mag_std"], "mag_std_long": field["std_long"]}
         | {
             "hard_iron": iron.horizontal_uT if iron is not None else float("nan"),

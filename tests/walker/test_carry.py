@@ -377,11 +377,16 @@ def test_compiled_sign_continuity_and_scalar_moves_match_numpy():
 # ---------------------------------------------------------------------- the held hand
 
 
+def _complex_amplitude(x: np.ndarray, t: np.ndarray, hz: float) -> complex:
+    """x's component at ``hz`` as a complex amplitude (least squares on a cosine and a sine)."""
+    basis = np.column_stack([np.cos(2 * np.pi * hz * t), np.sin(2 * np.pi * hz * t)])
+    c, s = np.linalg.lstsq(basis, x - x.mean(), rcond=None)[0]
+    return complex(c, -s)
+
+
 def _amplitude(x: np.ndarray, t: np.ndarray, hz: float) -> float:
-    """Amplitude of x's component at ``hz`` (least squares on a sine and a cosine)."""
-    basis = np.column_stack([np.sin(2 * np.pi * hz * t), np.cos(2 * np.pi * hz * t)])
-    coef = np.linalg.lstsq(basis, x - x.mean(), rcond=None)[0]
-    return float(np.hypot(*coef))
+    """Amplitude of x's component at ``hz``."""
+    return abs(_complex_amplitude(x, t, hz))
 
 
 def test_a_damped_spring_passes_its_base_motion_as_the_closed_form_says():
@@ -462,13 +467,6 @@ def test_the_abducted_arm_twists_the_held_hand_sideways_with_each_step(straight_
 
     assert 0.03 < sideways_per_bounce({}) < 0.15
     assert sideways_per_bounce({"twist_hz": (80.0, 80.0)}) < 0.5 * sideways_per_bounce({})
-
-
-def _complex_amplitude(x: np.ndarray, t: np.ndarray, hz: float) -> complex:
-    """x's component at ``hz`` as a complex amplitude (least squares)."""
-    basis = np.column_stack([np.cos(2 * np.pi * hz * t), np.sin(2 * np.pi * hz * t)])
-    c, s = np.linalg.lstsq(basis, x - x.mean(), rcond=None)[0]
-    return complex(c, -s)
 
 
 def test_the_held_phone_nods_with_its_bounce_without_ringing_at_twice_the_step_rate(

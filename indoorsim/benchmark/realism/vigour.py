@@ -89,21 +89,37 @@ class VigourFit:
     target: tuple[float, float, float]
     reached: tuple[float, float, float]
 
+    def _relative_misses(self) -> list[float]:
+        """Each figure's relative miss, |reached / target − 1|."""
+        return [
+            abs(got / max(want, _TINY) - 1.0)
+            for got, want in zip(self.reached, self.target, strict=True)
+        ]
+
+    def _held_at_ends(self) -> list[tuple[str, float, tuple[float, float]]]:
+        """The parameters held at an end of their range: (name, value, range)."""
+        return [
+            (name, value, (low, high))
+            for name, value, (low, high) in (
+                ("bounce_fraction", self.bounce_fraction, _BOUNCE_RANGE),
+                ("loading_width", self.loading_width, _WIDTH_RANGE),
+                ("heel_strike_mps2", self.heel_strike_mps2, _HEEL_RANGE),
+            )
+            if value <= low or value >= high
+        ]
+
     def misses(self, tolerance: float = _TOLERANCE) -> list[str]:
         """What the fit did not reach: each figure the fitted walk misses by more than
         ``tolerance`` (relative), and each parameter held at the end of its range."""
         out = [
             f"{name} {got:.3g} against {want:.3g}"
-            for name, got, want in zip(FIGURES, self.reached, self.target, strict=True)
-            if abs(got / max(want, _TINY) - 1.0) > tolerance
+            for name, got, want, miss in zip(
+                FIGURES, self.reached, self.target, self._relative_misses(), strict=True
+            )
+            if miss > tolerance
         ]
-        for name, value, (low, high) in (
-            ("bounce_fraction", self.bounce_fraction, _BOUNCE_RANGE),
-            ("loading_width", self.loading_width, _WIDTH_RANGE),
-            ("heel_strike_mps2", self.heel_strike_mps2, _HEEL_RANGE),
-        ):
-            if value <= low or value >= high:
-                out.append(f"{name} held at {value:.3g}, the end of its range {low}–{high}")
+        for name, value, (low, high) in self._held_at_ends():
+            out.append(f"{name} held at {value:.3g}, the end of its range {low}–{high}")
         return out
 
     def closeness(self) -> tuple[bool, bool, float]:
@@ -111,19 +127,8 @@ class VigourFit:
         misses by more than :meth:`misses`' tolerance, then whether a parameter is held
         at the end of its range, then the largest relative miss of a figure (0: every
         figure reached exactly)."""
-        at_end = any(
-            value <= low or value >= high
-            for value, (low, high) in (
-                (self.bounce_fraction, _BOUNCE_RANGE),
-                (self.loading_width, _WIDTH_RANGE),
-                (self.heel_strike_mps2, _HEEL_RANGE),
-            )
-        )
-        worst = max(
-            abs(got / max(want, _TINY) - 1.0)
-            for got, want in zip(self.reached, self.target, strict=True)
-        )
-        return worst > _TOLERANCE, at_end, worst
+        worst = max(self._relative_misses())
+        return worst > _TOLERANCE, bool(self._held_at_ends()), worst
 
     def walker(self, walker: WalkerParams) -> WalkerParams:
         """``walker`` with the fitted vigour."""
