@@ -530,6 +530,7 @@ SIGNALS = {
     "sway_step": "sideways acceleration at the step rate (m/s²)",
     "roll_jerk": "roll rate against sideways jerk, correlation",
     "nod_2nd": "pitch rate per vertical acceleration at twice the step rate (rad/s per m/s²)",
+    "surge_2nd": "forward acceleration at twice the step rate (m/s²)",
     "mag_std": "‖m‖ std along the path (µT)",
     "mag_std_long": "‖m‖ std at wavelengths over 10 m (µT)",
     "hard_iron": "the magnetometer's residual hard iron, where the turns show it (µT)",

@@ -43,6 +43,7 @@ The keys of the returned dict (NaN where a stream is missing or too short):
                     at twice the step rate (rad/s per m/s²; a resonance rings there)
 ``bob_phase_2nd``   its vertical acceleration's second harmonic against the step
                     rate's, φ₂ − 2φ₁ (°; the loading peak's and the jolt's timing)
+``surge_2nd``       its forward acceleration at twice the step rate (m/s²)
 ==================  ==========================================================
 """
 
@@ -111,6 +112,7 @@ MOTION_KEYS = (
     "roll_jerk",
     "nod_2nd",
     "bob_phase_2nd",
+    "surge_2nd",
 )
 
 _SEGMENT_S = 8.0  # Welch segment: 0.125 Hz bins, several segments per real walk
@@ -310,7 +312,7 @@ def motion_statistics(rec: Recording) -> dict[str, float]:
     return out
 
 
-HELD_KEYS = MOTION_KEYS[-8:]
+HELD_KEYS = MOTION_KEYS[-9:]
 """Keys of :func:`held_phone_motion` (the last of :data:`MOTION_KEYS`)."""
 HELD_MODE = "handheld"
 """The carrying mode whose phone is held top-forward: the only one they are judged in."""
@@ -386,6 +388,8 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
     ``bob_phase_2nd`` the vertical acceleration's second harmonic against its
                      fundamental, the angle of Σ A₂·A₁*² / (|A₂|·|A₁|²) (°, in
                      −180…180): 0 for a pulse symmetric about its peak
+    ``surge_2nd``     forward acceleration at twice the step rate, the median
+                     amplitude over windows as the first five (m/s²)
 
     ``roll_jerk`` tells what rolls the phone. Tilting it lets gravity into its x
     axis against the turn (a roll at ω_y changes a_x by −g·ω_y): left to that, the
@@ -423,11 +427,12 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
         at_stride = np.abs(windows.coefficient(w, step_hz / 2.0))
         at_2nd = windows.coefficient(w, 2.0 * step_hz)
         rows.append([abs(at_step[0]), at_stride[1], abs(at_step[2]), at_stride[3], abs(at_step[1])])
-        second.append((at_step[2], at_2nd[2], at_2nd[4]))
+        second.append((at_step[2], at_2nd[2], at_2nd[4], abs(at_2nd[0])))
     if rows:
         out.update(zip(HELD_KEYS[:5], np.median(rows, axis=0).tolist(), strict=True))
         out["roll_jerk"] = roll_jerk_correlation(sig.accel, sig.gyro, sig.runs, rate)
-        bob, bob_2nd, nod_2nd = (np.array(c) for c in zip(*second, strict=True))
+        bob, bob_2nd, nod_2nd, surge_2nd = (np.array(c) for c in zip(*second, strict=True))
+        out["surge_2nd"] = float(np.median(surge_2nd))
         power = float(np.sum(np.abs(bob_2nd) ** 2))
         if power > 0:
             out["nod_2nd"] = float(abs(np.sum(nod_2nd * np.conj(bob_2nd))) / power)

@@ -211,3 +211,16 @@ def test_a_held_phones_nod_and_bob_shape_at_twice_the_step_rate_in_closed_form()
     assert held["bob_phase_2nd"] == pytest.approx(math.degrees(0.5), abs=1.0)
     rec.accel["z"] = 9.81 + 2 * np.cos(w * t) + 0.6 * np.cos(2 * w * t)
     assert held_phone_motion(rec)["bob_phase_2nd"] == pytest.approx(0.0, abs=1.0)
+
+
+def test_a_held_phones_surge_at_twice_the_step_rate_is_its_amplitude():
+    """Forward acceleration 0.3·cos(ωt + 0.4) + 0.45·cos(2ωt − 0.7) on the phone's y axis
+    (held flat, top forward) reads 0.3 at the step rate and 0.45 at twice it."""
+    f = 1.75
+    rec = _sine_walk(f)
+    t = rec.accel.index.to_numpy()
+    w = 2 * np.pi * f
+    rec.accel["y"] = 0.3 * np.cos(w * t + 0.4) + 0.45 * np.cos(2 * w * t - 0.7)
+    held = held_phone_motion(rec)
+    assert held["surge_step"] == pytest.approx(0.3, rel=0.03)
+    assert held["surge_2nd"] == pytest.approx(0.45, rel=0.03)
