@@ -48,6 +48,7 @@ from scipy.interpolate import CubicSpline
 from indoorsim.util import quaternion as quat_ops
 from indoorsim.walker import limbs
 from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory
+from indoorsim.walker.hip_curves import HIP_FLEXION, HIP_ROTATION, PELVIC_LIST
 from indoorsim.walker.modes import CarryMode, ModePose, register_mode
 from indoorsim.walker.motion import impulse_displacement
 from indoorsim.walker.physics import PYMUNK_LOCK
@@ -69,67 +70,6 @@ _POCKET_ALONG_M, _POCKET_FRONT_M = 0.15, 0.07
 # of mass this far off the thigh's surface (half a phone's thickness) (m).
 _PHONE_LENGTH_M, _PHONE_WIDTH_M, _POCKET_LEVER_M = 0.15, 0.072, 0.004
 
-
-def _hip_flexion() -> CubicSpline:
-    """The hip's sagittal angle over a gait cycle from heel strike, scaled to ±1.
-
-    Knots read off the normal-gait hip flexion curve (Winter, *Biomechanics and
-    Motor Control of Human Movement*, 2009: ≈ 25° flexed at heel strike,
-    ≈ 10° extended at 55 % of the cycle, ≈ 30° flexed late in swing) [E],
-    joined by a periodic cubic spline.
-    """
-    p = np.array([0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.55, 0.62, 0.7, 0.8, 0.88, 0.95, 1.0])
-    deg = np.array([25.0, 23.0, 15.0, 7.0, 0.0, -8.0, -10.0, -4.0, 8.0, 22.0, 28.0, 27.0, 25.0])
-    grid = np.linspace(0.0, 1.0, 1001)
-    raw = CubicSpline(p, deg, bc_type="periodic")(grid)
-    mid, half = 0.5 * (raw.max() + raw.min()), 0.5 * np.ptp(raw)
-    return CubicSpline(p, (deg - mid) / half, bc_type="periodic")
-
-
-_HIP_FLEXION = _hip_flexion()
-
-
-def _pelvic_list() -> CubicSpline:
-    """The pelvis's frontal-plane tilt over a gait cycle from one side's heel strike,
-    that side up positive, scaled to ±1.
-
-    Knots read off normal gait's pelvic obliquity (Perry & Burnfield, *Gait
-    Analysis*, 2010; Winter 2009): in that side's loading response the other,
-    unloaded side drops fast — the hip on the loaded side rises relative to it,
-    most at 12–15 % of the cycle — and it levels slowly through single support;
-    the next half cycle mirrors it [E]. The fast drop puts the stride's third
-    harmonic into the hip's vertical motion.
-    """
-    p = np.array([0.0, 0.05, 0.13, 0.2, 0.3, 0.4, 0.5])
-    up = np.array([0.0, 0.6, 1.0, 0.9, 0.5, 0.2, 0.0])
-    p, up = np.r_[p, p[1:] + 0.5], np.r_[up, -up[1:]]
-    return CubicSpline(p, up, bc_type="periodic")
-
-
-_PELVIC_LIST = _pelvic_list()
-
-
-def _hip_rotation() -> CubicSpline:
-    """The thigh's rotation about its long axis relative to the pelvis over a gait cycle
-    from that side's heel strike, internal rotation positive, scaled to ±1.
-
-    Knots read off normal gait's hip transverse-plane rotation (Perry & Burnfield,
-    *Gait Analysis*, 2010; Kadaba et al., J Orthop Res 8:383, 1990: a range of
-    8–15°): the limb rotates internally through loading response, most at
-    10–15 % of the cycle, externally through single support to its most at
-    toe-off (≈ 60 %), and internally again through swing [E]. Stance's slow
-    external turn and swing's quick return put the stride's second and third
-    harmonics into its rate.
-    """
-    p = np.array([0.0, 0.06, 0.13, 0.25, 0.4, 0.52, 0.62, 0.7, 0.8, 0.9, 1.0])
-    deg = np.array([0.3, 0.8, 1.0, 0.6, -0.1, -0.7, -1.0, -0.6, 0.1, 0.2, 0.3])
-    grid = np.linspace(0.0, 1.0, 1001)
-    raw = CubicSpline(p, deg, bc_type="periodic")(grid)
-    mid, half = 0.5 * (raw.max() + raw.min()), 0.5 * np.ptp(raw)
-    return CubicSpline(p, (deg - mid) / half, bc_type="periodic")
-
-
-_HIP_ROTATION = _hip_rotation()
 
 # ---------------------------------------------------------------------- shared pieces
 
@@ -742,13 +682,13 @@ class Pocketed(CarryMode):
 
     The phone rides on the thigh, which turns at the hip in all three planes
     over the gait cycle: flexion follows the hip's sagittal angle of normal gait
-    (:data:`_HIP_FLEXION`: slow extension through stance, quick flexion in
+    (:data:`~.hip_curves.HIP_FLEXION`: slow extension through stance, quick flexion in
     swing, so the pitch rate is not a sinusoid), ab-/adduction follows at stride
     frequency with a drawn lag behind it, and the rotation about the thigh follows
-    the hip's transverse-plane curve (:data:`_HIP_ROTATION`: internal in loading
+    the hip's transverse-plane curve (:data:`~.hip_curves.HIP_ROTATION`: internal in loading
     response, external toward toe-off) on top of the pelvis's turn, which brings
     that side forward at its heel strike. The hip joint it hangs from rides on the
-    pelvis, which lists sideways (:data:`_PELVIC_LIST`). At the same-side heel
+    pelvis, which lists sideways (:data:`~.hip_curves.PELVIC_LIST`). At the same-side heel
     strike the thigh stops against the ground and the phone jolts along it, and
     the flesh under the pocket shears round the thigh, rolling the pocket with it.
 
@@ -784,7 +724,7 @@ class Pocketed(CarryMode):
     swing and roll, while the same real pockets drift 0–2°/stride (typically 1.6);
     30–45° and this roll give 1.7–2 (median over walks)."""
     hip_rotation_deg: tuple[float, float] = (3.0, 5.0)
-    """Range of the hip's rotation amplitude about the thigh (:data:`_HIP_ROTATION`,
+    """Range of the hip's rotation amplitude about the thigh (:data:`~.hip_curves.HIP_ROTATION`,
     relative to the pelvis), drawn per use: normal gait's hip transverse-plane range
     is 8–15° (Kadaba et al. 1990), the low end here because the pelvis's own turn
     (±3–8°, the trunk's counter-rotation) adds to it nearly in phase; with it and the
@@ -795,7 +735,7 @@ class Pocketed(CarryMode):
     """Largest shift of that rotation's curve along the gait cycle, drawn per use
     (fraction of a cycle) [E]."""
     pelvic_list_deg: tuple[float, float] = (3.0, 5.0)
-    """Range of the pelvis's frontal-plane tilt amplitude (:data:`_PELVIC_LIST`:
+    """Range of the pelvis's frontal-plane tilt amplitude (:data:`~.hip_curves.PELVIC_LIST`:
     ±3–5° in normal gait), drawn per use: it lifts and drops the hip joint that
     carries the thigh by a few millimetres, quickly in each loading response [E]."""
     top_down: bool | None = None
@@ -869,7 +809,7 @@ class Pocketed(CarryMode):
         )
         # The leg's own gait cycle: 0 at its heel strike (stride phase 0 is the left one).
         own = np.mod(body.stride_phase - (0.5 if side < 0 else 0.0), 1.0)
-        alpha = env * (math.radians(self.thigh_mean_deg) + swing * _HIP_FLEXION(own))
+        alpha = env * (math.radians(self.thigh_mean_deg) + swing * HIP_FLEXION(own))
         # Ab-/adduction goes through the cycle as quickly as flexion does (fast in
         # swing), a drawn fraction of a cycle behind it. (The draws keep the order
         # they had before the hip's rotation curve and the flesh's roll came in: the
@@ -878,12 +818,12 @@ class Pocketed(CarryMode):
         delay = rng.uniform(-self.rotation_shift, self.rotation_shift)
         roll_amp = math.radians(rng.uniform(*self.thigh_roll_deg))
         rotate_amp = math.radians(rng.uniform(*self.hip_rotation_deg))
-        roll = env * side * roll_amp * _HIP_FLEXION(np.mod(own - roll_lag, 1.0))
+        roll = env * side * roll_amp * HIP_FLEXION(np.mod(own - roll_lag, 1.0))
         # The hip rotates the thigh internally in loading response and externally
-        # toward toe-off (:data:`_HIP_ROTATION`), on top of the pelvis's own turn,
+        # toward toe-off (:data:`~.hip_curves.HIP_ROTATION`), on top of the pelvis's own turn,
         # which brings that side forward at its heel strike: internal is toward the
         # midline, −z on the left leg.
-        twist = -env * side * rotate_amp * _HIP_ROTATION(np.mod(own - delay, 1.0))
+        twist = -env * side * rotate_amp * HIP_ROTATION(np.mod(own - delay, 1.0))
         hip = np.array([0.0, _HIP_HALF_WIDTH * h * side, (_HIP_H - PELVIS_HEIGHT_RATIO) * h])
         same_side = body.steps.foot.to_numpy() == ("R" if side < 0 else "L")
         t_hs = body.steps.t.to_numpy()[same_side]
@@ -917,7 +857,7 @@ class Pocketed(CarryMode):
         )
         # The hip joint rides on the pelvis, which tilts sideways with its list (the
         # loaded side up); the thigh hangs from it in its own frontal-plane angle.
-        tilt = env * side * list_amp * _PELVIC_LIST(own)
+        tilt = env * side * list_amp * PELVIC_LIST(own)
         rigid_pos = (
             body.pos
             + limbs.apply(limbs.compose(pelvis, limbs.about("x", tilt)), hip)
