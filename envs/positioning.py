@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v6`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v7`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -229,11 +229,15 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       wrist is stiffer in flexion and it tilts slowly while walking; the held phone's
       roll on its thumb-side offset, which came without a bump): a seed gives other
       observations and errors. Spaces, rewards and arguments are unchanged.
+    - v7: the walks changed (the trunk leans sideways toward the stance leg, as its
+      roll always said, where the held and calling phones leaned it toward the swing
+      leg; the held hand is held sideways more softly): a seed gives other
+      observations and errors. Spaces, rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v6")
+        >>> env = gym.make("indoorsim/MinimalRoom-v7")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)

@@ -87,6 +87,13 @@ def about(axis: str, angle: float | NDArray[np.float64]) -> Quat:
     return q
 
 
+def lean_sideways(roll: float | NDArray[np.float64]) -> Quat:
+    """The trunk's sideways lean by ``roll`` rad, + left (``BodyTrajectory.roll``): its top
+    tips toward the body's +y. About the forward axis (x) that is a turn by −roll, as a
+    positive turn about x takes +z toward −y."""
+    return about("x", -np.asarray(roll, dtype=float))
+
+
 def from_rotvec(v: NDArray[np.float64]) -> Quat:
     """Rotation(s) by rotation vector(s) v."""
     return swap_scalar(Rotation.from_rotvec(v).as_quat(), False)

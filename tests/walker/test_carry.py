@@ -434,6 +434,24 @@ def test_the_held_hand_rides_out_the_trunks_surge_and_sway(straight_body):
         assert _amplitude(hand[:, 2], t, step_hz) > 0.9 * _amplitude(pelvis[:, 2], t, step_hz)
 
 
+def test_the_trunk_leans_toward_the_stance_leg(straight_body):
+    """``BodyTrajectory.roll`` is + left, toward the stance leg: it lags nothing behind the
+    sway toward that leg, and the lean tips the trunk's top that way, so the head, riding
+    on it, swings sideways at the stride rate further than the pelvis does."""
+    top = limbs.apply(limbs.lean_sideways(np.array([0.1])), np.array([[0.0, 0.0, 1.0]]))[0]
+    assert top[1] == pytest.approx(np.sin(0.1)) and top[0] == 0.0
+    body = straight_body
+    keep = _steady(body)
+    # The corridor runs along +x: the body's left is +y.
+    assert np.corrcoef(body.roll[keep], body.gait_offset[keep, 1])[0, 1] > 0.9
+    t = body.t[keep]
+    stride_hz = 0.5 / np.median(np.diff(body.steps["t"].to_numpy()))
+    pelvis = _amplitude(body.gait_offset[keep, 1], t, stride_hz)
+    for seed in range(3):
+        phone = carry(body, "calling", np.random.default_rng(seed))
+        assert _amplitude(phone.pos[keep, 1], t, stride_hz) > 1.3 * pelvis
+
+
 def test_the_held_phone_wanders_slowly_in_yaw(straight_body):
     """Walking straight, the held phone's heading strays about its 2 s running median by
     degrees (ILC traces: 2.45° median), not by a fraction of one."""

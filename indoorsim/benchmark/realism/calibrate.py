@@ -200,10 +200,13 @@ START_TURN_MIN_DEG = 5.0
 bias turns a standing phone by a degree or two over a few seconds."""
 
 
-FIRST_STEP_LAG_S = 1.0
+FIRST_STEP_LAG_S = 0.42
 """How long after the walker sets off the peak–valley detector finds its first step, s:
-about 0.8 s to the first heel strike, and the detector's peak after it (1.02–1.06 s
-on simulated walks that stood 3–8 s first)."""
+0.40–0.46 s on simulated walks that stood 3–8 s first (the held phone, walks v7). The
+first heel strike comes 0.8 s after setting off, but the weight shift onto the first
+stance leg before it, which leans the trunk and tips the holding arm's elbow, swings
+‖a‖ enough to count (with the trunk leaning the other way, before v7, it did not,
+and the detector's first step was the peak after that heel strike, 1.02–1.06 s)."""
 
 
 def _first_step(rec: Recording) -> float | None:
