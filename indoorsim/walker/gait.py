@@ -205,8 +205,9 @@ class WalkerParams:
     trunk_yaw_deg: tuple[float, float] = (3.0, 8.0)
     """Range of the trunk's yaw oscillation amplitude at stride frequency (±3–8°)."""
     trunk_roll_deg: tuple[float, float] = (2.0, 4.0)
-    """Range of the trunk's sideways lean toward the stance leg at stride
-    frequency (thorax lateral flexion and pelvic obliquity, ±2–5°) [E]."""
+    """Range of the trunk's sideways lean toward the stance leg at stride frequency
+    (the thorax's, ±2–5°; the pelvis lists the other way, its swing side dropping, which
+    the pocketed thigh models on its own) [E]."""
     trunk_pitch_deg: tuple[float, float] = (2.0, 4.0)
     """Range of the trunk's forward lean within each step (half its peak to peak in a
     step of the walk's median bounce): most in double support, as heel strike brakes

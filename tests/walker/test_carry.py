@@ -415,7 +415,7 @@ def test_the_gait_offset_is_all_the_within_step_motion(straight_body):
 
 def test_the_held_hand_rides_out_the_trunks_surge_and_sway(straight_body):
     """The reading hand keeps its place in space fore-aft and sideways (ILC traces:
-    0.48 m/s² at the step rate, 0.2 at the stride rate, a third of the pelvis's or
+    0.48 m/s² at the step rate, 0.34 at the stride rate, a third of the pelvis's or
     less), and bobs with the trunk vertically."""
     flat = {"pitch_deg": 0.0}
     body = straight_body
@@ -435,21 +435,28 @@ def test_the_held_hand_rides_out_the_trunks_surge_and_sway(straight_body):
 
 
 def test_the_trunk_leans_toward_the_stance_leg(straight_body):
-    """``BodyTrajectory.roll`` is + left, toward the stance leg: it lags nothing behind the
-    sway toward that leg, and the lean tips the trunk's top that way, so the head, riding
-    on it, swings sideways at the stride rate further than the pelvis does."""
+    """``BodyTrajectory.roll`` is + left: at mid-stance on the left foot the pelvis is
+    shifted left and the trunk leans left, on the right foot both right; the lean tips
+    the trunk's top that way, so the head, riding on it, swings sideways at the stride
+    rate further than the pelvis does (2.2 times on this walk; 0.24 with the lean the
+    other way, before walks v7)."""
     top = limbs.apply(limbs.lean_sideways(np.array([0.1])), np.array([[0.0, 0.0, 1.0]]))[0]
-    assert top[1] == pytest.approx(np.sin(0.1)) and top[0] == 0.0
+    np.testing.assert_allclose(top, [0.0, np.sin(0.1), np.cos(0.1)], atol=1e-15)
     body = straight_body
-    keep = _steady(body)
+    strikes = body.steps.iloc[4:-5]
+    mid = strikes["t"].to_numpy() + 0.5 * np.median(np.diff(body.steps["t"].to_numpy()))
+    at = np.searchsorted(body.t, mid)
+    left = (strikes["foot"] == "L").to_numpy()
     # The corridor runs along +x: the body's left is +y.
-    assert np.corrcoef(body.roll[keep], body.gait_offset[keep, 1])[0, 1] > 0.9
+    sway, roll = body.gait_offset[at, 1], body.roll[at]
+    assert (sway[left] > 0).all() and (roll[left] > 0).all()
+    assert (sway[~left] < 0).all() and (roll[~left] < 0).all()
+    keep = _steady(body)
     t = body.t[keep]
     stride_hz = 0.5 / np.median(np.diff(body.steps["t"].to_numpy()))
     pelvis = _amplitude(body.gait_offset[keep, 1], t, stride_hz)
-    for seed in range(3):
-        phone = carry(body, "calling", np.random.default_rng(seed))
-        assert _amplitude(phone.pos[keep, 1], t, stride_hz) > 1.3 * pelvis
+    phone = carry(body, "calling", np.random.default_rng(0))
+    assert _amplitude(phone.pos[keep, 1], t, stride_hz) > 1.3 * pelvis
 
 
 def test_the_held_phone_wanders_slowly_in_yaw(straight_body):

@@ -34,8 +34,8 @@ simulated one, so a simulated recording with known parameters checks the fit:
   last), the step length (speed over step rate), the height that gives that
   step length at that speed in the gait model
   (:func:`~indoorsim.walker.gait.step_length_m`), how long the walker
-  stood before the first step (the peak–valley detector's first step less
-  :data:`FIRST_STEP_LAG_S`) and after the last, and how far it turned while
+  stood before the first step (the peak–valley detector's first step less the
+  carrying mode's :data:`FIRST_STEP_LAG_S`) and after the last, and how far it turned while
   standing before the first (the gyro's turn about gravity; from
   :data:`START_TURN_MIN_DEG`); and, given the carrying mode,
   its vigour (the pelvis's bounce, its loading peak and the heel-strike jolts),
@@ -200,13 +200,21 @@ START_TURN_MIN_DEG = 5.0
 bias turns a standing phone by a degree or two over a few seconds."""
 
 
-FIRST_STEP_LAG_S = 0.42
-"""How long after the walker sets off the peak–valley detector finds its first step, s:
-0.40–0.46 s on simulated walks that stood 3–8 s first (the held phone, walks v7). The
-first heel strike comes 0.8 s after setting off, but the weight shift onto the first
-stance leg before it, which leans the trunk and tips the holding arm's elbow, swings
-‖a‖ enough to count (with the trunk leaning the other way, before v7, it did not,
-and the detector's first step was the peak after that heel strike, 1.02–1.06 s)."""
+FIRST_STEP_LAG_S: dict[str, float] = {
+    "handheld": 0.42,
+    "calling": 0.42,
+    "dangling": 1.08,
+    "pocketed": 0.42,
+}
+"""How long after the walker sets off the peak–valley detector finds its first step, s,
+by carrying mode (medians over simulated walks that stood 3–8 s first, walks v7; a
+recording whose mode is not known takes the held phone's). The first heel strike
+comes 0.8 s after setting off; held at the chest or the ear, the weight shift onto the
+first stance leg before it, which leans the trunk, swings ‖a‖ enough to count
+(0.40–0.46 s; before v7, with the trunk leaning the other way, it did not, and the
+first step was the peak after that heel strike, 1.02–1.06 s). A swinging hand's
+first counted step is the peak after the heel strike (1.08–1.54 s); a pocket's is
+either (0.30–1.02 s), so its standing time is known to about half a second."""
 
 
 def _first_step(rec: Recording) -> float | None:
@@ -230,8 +238,11 @@ def _standing_turn(rec: Recording, first_step: float) -> float | None:
     return -math.degrees(float(heading[standing - 1]))
 
 
-def _walker(rec: Recording, measured: dict[str, float], not_measured: dict[str, str]) -> dict:
-    """Walker fields the recording shows (see the module docstring)."""
+def _walker(
+    rec: Recording, mode: str | None, measured: dict[str, float], not_measured: dict[str, str]
+) -> dict:
+    """Walker fields the recording shows (see the module docstring), carried in ``mode``
+    (None: not known)."""
     sig = walking_signals(rec)
     rate = len(sig.norm) / max(rec.accel.index[-1] - rec.accel.index[0], 1e-9)
     fields: dict[str, Any] = {}
@@ -246,7 +257,8 @@ def _walker(rec: Recording, measured: dict[str, float], not_measured: dict[str, 
     # walking mask (a moving spread of ‖a‖) reads a real phone handled in a standing
     # surveyor's hand as walking, and a walk's first second as standing.
     first_step = _first_step(rec)
-    standing = walk_idx[0] / rate if first_step is None else first_step - t0 - FIRST_STEP_LAG_S
+    lag = FIRST_STEP_LAG_S.get(mode or "handheld", FIRST_STEP_LAG_S["handheld"])
+    standing = walk_idx[0] / rate if first_step is None else first_step - t0 - lag
     fields["stand_start_s"] = round(float(max(0.0, standing)), 2)
     fields["stand_end_s"] = round(float((len(sig.walking) - 1 - walk_idx[-1]) / rate), 2)
     turn = None if first_step is None else _standing_turn(rec, first_step)
@@ -282,6 +294,17 @@ def _walker(rec: Recording, measured: dict[str, float], not_measured: dict[str, 
     if fields["height_m"] != round(height, 3):
         not_measured["height_m"] = f"the fitted {height:.2f} m is outside 1.0–2.3 m: clipped"
     return fields
+
+
+def _mode_name(rec: Recording, mode: ScheduleLike | None) -> str | None:
+    """The one carrying mode's name: ``mode``'s (already one entry), else the recording's
+    own where it names one; None otherwise."""
+    if mode is None:
+        try:
+            mode = single_mode(rec.meta["mode"]) if "mode" in rec.meta else None
+        except VigourError:
+            return None
+    return None if mode is None else str(mode[0][1])
 
 
 def _vigour(
@@ -472,7 +495,7 @@ def calibrate(
         f"everything else: the {base_profile.name} profile",
     ]
     device = device_from_dict(data, source="calibration")
-    walker = WalkerParams(**_walker(rec, measured, not_measured))
+    walker = WalkerParams(**_walker(rec, _mode_name(rec, mode), measured, not_measured))
     walker = _vigour(rec, walker, mode, device, measured, not_measured)
     return Calibration(
         device=device,

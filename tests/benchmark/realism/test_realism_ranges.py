@@ -70,7 +70,8 @@ INSIDE = {
         "nod_2nd",
         "bob_phase_2nd",
         # roll_jerk: -0.56 on the generated basement (its walker goes at 1.4 m/s), where
-        # real held phones show -0.36 to +0.05; -0.359 on the Chen2022 office, at the edge.
+        # real held phones show -0.36 to +0.05; -0.40 on the Chen2022 office since the
+        # trunk leans toward the stance leg (v7).
         # surge_2nd: 0.08 on the Han2023 corridor and the generated office, where real
         # held phones surge 0.09-0.54 m/s² at twice the step rate (median 0.21): the
         # simulated arm holds the hand still fore and aft above the step rate.
