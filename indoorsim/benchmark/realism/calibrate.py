@@ -296,36 +296,35 @@ def _walker(
     return fields
 
 
-def _mode_name(rec: Recording, mode: ScheduleLike | None) -> str | None:
-    """The one carrying mode's name: ``mode``'s (already one entry), else the recording's
-    own where it names one; None otherwise."""
-    if mode is None:
-        try:
-            mode = single_mode(rec.meta["mode"]) if "mode" in rec.meta else None
-        except VigourError:
-            return None
-    return None if mode is None else str(mode[0][1])
+def _carrying_mode(
+    rec: Recording, mode: ScheduleLike | None
+) -> tuple[list[tuple[float, str, dict]] | None, str]:
+    """``mode`` (already one entry), else the recording's own where it names one carrying
+    mode; with why there is none (empty when there is one)."""
+    if mode is not None:
+        return mode, ""
+    own = rec.meta.get("mode")
+    if own is None:
+        return None, "carrying mode not known (pass mode): the defaults"
+    try:
+        return single_mode(own), ""
+    except VigourError as err:
+        return None, f"the recording's own {err}: the defaults"
 
 
 def _vigour(
     rec: Recording,
     walker: WalkerParams,
-    mode: ScheduleLike | None,
+    mode: list[tuple[float, str, dict]] | None,
+    why_none: str,
     device: DeviceProfile,
     measured: dict[str, float],
     not_measured: dict[str, str],
 ) -> WalkerParams:
     """``walker`` with the bounce, loading peak and heel strikes ``rec`` shows in ``mode``
-    (None: the recording's own, where it names one carrying mode)."""
+    (:func:`_carrying_mode`'s; None: the defaults, for ``why_none``)."""
     if mode is None:
-        own = rec.meta.get("mode")
-        try:
-            mode = single_mode(own) if own is not None else None
-        except VigourError as err:
-            not_measured["walker vigour"] = f"the recording's own {err}: the defaults"
-            return walker
-    if mode is None:
-        not_measured["walker vigour"] = "carrying mode not known (pass mode): the defaults"
+        not_measured["walker vigour"] = why_none
         return walker
     try:
         fit = fit_vigour(rec, walker, mode, device)
@@ -495,8 +494,10 @@ def calibrate(
         f"everything else: the {base_profile.name} profile",
     ]
     device = device_from_dict(data, source="calibration")
-    walker = WalkerParams(**_walker(rec, _mode_name(rec, mode), measured, not_measured))
-    walker = _vigour(rec, walker, mode, device, measured, not_measured)
+    carried, why_none = _carrying_mode(rec, mode)
+    name = None if carried is None else carried[0][1]
+    walker = WalkerParams(**_walker(rec, name, measured, not_measured))
+    walker = _vigour(rec, walker, carried, why_none, device, measured, not_measured)
     return Calibration(
         device=device,
         walker=walker,

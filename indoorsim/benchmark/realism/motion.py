@@ -424,7 +424,7 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
     for w in windows.over(levelled, sig.runs):
         step_hz = windows.freqs[band][np.argmax(np.abs(windows.spectrum(w[:, 2]))[band])]
         at_step = windows.coefficient(w, step_hz)
-        at_stride = np.abs(windows.coefficient(w, step_hz / 2.0))
+        at_stride = windows.amplitude(w, step_hz / 2.0)
         at_2nd = windows.coefficient(w, 2.0 * step_hz)
         rows.append([abs(at_step[0]), at_stride[1], abs(at_step[2]), at_stride[3], abs(at_step[1])])
         second.append((at_step[2], at_2nd[2], at_2nd[4], abs(at_2nd[0])))
