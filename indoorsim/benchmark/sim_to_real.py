@@ -71,8 +71,8 @@ from indoorsim.scenario.generate import generate
 from indoorsim.scenario.imports import (
     add_trace_routes,
     import_ilc_floor,
+    leg_speeds,
     read_ilc_floor,
-    waypoint_speed,
 )
 from indoorsim.scenario.load import load_site
 from indoorsim.simulate import simulate
@@ -584,7 +584,7 @@ def twin_site(realdata: Path, *, seed: int = 0) -> TwinSite:
     for name, path in paths.items():
         wp = read_ilc_trace(path).waypoints
         xy = wp[["x", "y"]].to_numpy(dtype=float)
-        traces[name] = (xy.tolist(), waypoint_speed(xy, wp.index.to_numpy(dtype=float)))
+        traces[name] = (xy.tolist(), leg_speeds(xy, wp.index.to_numpy(dtype=float)))
     routes = add_trace_routes(imported, traces)
     return TwinSite(
         site=load_site(routes.scenario),

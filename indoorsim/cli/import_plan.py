@@ -62,18 +62,20 @@ def add_import_plan(subparsers: Subparsers) -> None:
     parser.set_defaults(handler=_run_import_plan)
 
 
-def _read_traces(folder: Path) -> tuple[dict[str, tuple[list[list[float]], float]], dict[str, str]]:
-    """Waypoints and speed of each trace in ``folder``, and the traces that have none."""
+def _read_traces(
+    folder: Path,
+) -> tuple[dict[str, tuple[list[list[float]], list[float]]], dict[str, str]]:
+    """Waypoints and leg speeds of each trace in ``folder``, and the traces that have none."""
     from indoorsim.io.reallogs.ilc import looks_like_ilc_trace, read_ilc_trace
     from indoorsim.io.recording import RecordingError
-    from indoorsim.scenario.imports import waypoint_speed
+    from indoorsim.scenario.imports import leg_speeds
 
     if not folder.is_dir():
         raise CliError(f"--traces {folder}: no such folder")
     files = sorted(p for p in folder.iterdir() if looks_like_ilc_trace(p))
     if not files:
         raise CliError(f"--traces {folder}: no Indoor Location Competition traces (*.txt) in it")
-    traces: dict[str, tuple[list[list[float]], float]] = {}
+    traces: dict[str, tuple[list[list[float]], list[float]]] = {}
     unreadable: dict[str, str] = {}
     for path in files:
         try:
@@ -85,7 +87,7 @@ def _read_traces(folder: Path) -> tuple[dict[str, tuple[list[list[float]], float
             unreadable[path.stem] = "fewer than two TYPE_WAYPOINT rows"
             continue
         xy = waypoints[["x", "y"]].to_numpy()
-        traces[path.stem] = (xy.tolist(), waypoint_speed(xy, waypoints.index.to_numpy()))
+        traces[path.stem] = (xy.tolist(), leg_speeds(xy, waypoints.index.to_numpy()))
     return traces, unreadable
 
 

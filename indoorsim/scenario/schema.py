@@ -528,6 +528,12 @@ class RouteSpec(_Spec):
     start: Vec2 | None = None
     goal: Vec2 | None = None
     speed: Annotated[float, Field(gt=0.1, le=3.0, allow_inf_nan=False)] = 1.2
+    leg_speeds: list[Annotated[float, Field(gt=0.1, le=3.0, allow_inf_nan=False)]] | None = None
+    """With waypoints: the mean speed over each leg between consecutive waypoints,
+    m/s, one per leg — the walker paces each leg to take its length over that
+    speed, within its acceleration and turning limits (a real surveyor's trace,
+    fast on long straight legs and slow on short ones). None walks every leg at
+    the cruising speed. The walker's step geometry still follows ``speed``."""
 
     @model_validator(mode="after")
     def _one_form(self) -> RouteSpec:
@@ -537,6 +543,14 @@ class RouteSpec(_Spec):
             raise ValueError("give either 'waypoints' or both 'start' and 'goal'")
         if has_sg and (self.start is None or self.goal is None):
             raise ValueError("'start' and 'goal' must be given together")
+        if self.leg_speeds is not None:
+            if self.waypoints is None:
+                raise ValueError("'leg_speeds' needs 'waypoints' (one speed per leg)")
+            if len(self.leg_speeds) != len(self.waypoints) - 1:
+                raise ValueError(
+                    f"'leg_speeds' has {len(self.leg_speeds)} speeds for "
+                    f"{len(self.waypoints) - 1} legs (one per pair of consecutive waypoints)"
+                )
         return self
 
     def points(self) -> list[tuple[float, float]]:

@@ -92,6 +92,12 @@ _YAW_MARGIN = 0.85
 _LENGTH_REVERSION = 0.25
 # Speed-profile grid spacing along the path (m).
 _PROFILE_DS_M = 0.01
+# Pacing a route's legs (_paced_legs): the grid of its speed profile (m), the
+# fixed-point passes (each leaves a leg within a few per cent of its time), and
+# the range of a leg's speed cap (m/s): brisk walking tops out near 2 m/s.
+_PACE_DS_M = 0.05
+_PACE_PASSES = 12
+_PACE_CAP_MPS = (0.15, 2.0)
 # Stops keep this far (m) from the route ends, pivots and each other.
 _STOP_GAP_M = 3.0
 # A walk cut short still steers its body this long past the cut (s).
@@ -147,7 +153,8 @@ class WalkerParams:
     pelvis height (0.53·height)."""
     speed_mps: float | None = None
     """Cruising speed; None takes the route's. Usual outdoor pace is 1.31 m/s
-    (Murtagh et al. 2021); indoors 1.0–1.3 m/s."""
+    (Murtagh et al. 2021); indoors 1.0–1.3 m/s. A route with ``leg_speeds`` paces
+    each leg by them instead (the steps' geometry keeps this speed's)."""
     speed_cv: float = 0.03
     """Slow fluctuation of the cruising speed along the route (CV) [E]."""
     speed_correlation_m: float = 15.0
@@ -410,6 +417,8 @@ def walk(
     ).keep_off_walls(plan, params.wall_distance_m)
     dwells = _dwells(path, params, v_cruise, omega_lim, rng)
     speed_factor = _speed_fluctuation(path.length, params, rng)
+    if route.leg_speeds is not None:
+        speed_factor = _paced_legs(path, route, dwells, v_cruise, omega_lim, speed_factor, params)
     first_left = bool(rng.random() < 0.5)
 
     # Walking bouts between the dwells, each from rest to rest.
@@ -558,6 +567,82 @@ def _speed_fluctuation(
     factor = 1.0 + params.speed_cv * (noise / sd if sd > 0 else noise)
     lim = 3.0 * params.speed_cv
     return s, np.clip(factor, 1.0 - lim, 1.0 + lim)
+
+
+def _leg_ends(path: SmoothPath, points: NDArray[np.float64]) -> NDArray[np.float64]:
+    """(L,) distance along the walked path of each route point: 0, the nearest point of
+    the path to each inner point, searched in order (past the previous one and within
+    its leg's reach, so a route that comes back past a point is not confused), the
+    length."""
+    ends = np.empty(len(points))
+    ends[0], ends[-1] = 0.0, path.length
+    legs = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    for i in range(1, len(points) - 1):
+        # The path's pieces from the previous end to a leg and a half beyond it.
+        lo = max(int(np.searchsorted(path.s, ends[i - 1], side="right")) - 1, 0)
+        reach = ends[i - 1] + 1.5 * legs[i - 1] + 2.0
+        hi = min(max(int(np.searchsorted(path.s, reach)), lo + 1), len(path.s) - 1)
+        a, b = path.xy[lo:hi], path.xy[lo + 1 : hi + 1]
+        ab = b - a
+        along = np.clip(
+            np.einsum("ij,ij->i", points[i] - a, ab)
+            / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-18),
+            0.0,
+            1.0,
+        )
+        gap = np.linalg.norm(a + along[:, None] * ab - points[i], axis=1)
+        k = int(np.argmin(gap))
+        ends[i] = max(
+            path.s[lo + k] + along[k] * (path.s[lo + k + 1] - path.s[lo + k]), ends[i - 1]
+        )
+    return np.minimum(ends, path.length)
+
+
+def _paced_legs(
+    path: SmoothPath,
+    route: Route,
+    dwells: list[_Dwell],
+    v_cruise: float,
+    omega_lim: float,
+    speed_factor: tuple[NDArray[np.float64], NDArray[np.float64]],
+    params: WalkerParams,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The cruising-speed factor with each leg's own speed cap, set so that every leg
+    of the route takes its length over its ``leg_speeds`` entry.
+
+    A leg's mean speed is below its cap: the walker starts, stops and slows for
+    turns within it. So the caps are found by fixed-point iteration on the walk's
+    speed profile (the bouts' own, :func:`_speed_profile`, over the whole path,
+    at rest at every dwell, whose time counts to its leg): each pass scales a
+    leg's cap by the time it took over the time it should. Caps stay within
+    :data:`_PACE_CAP_MPS`; a leg too short to reach its speed, or holding more
+    standing than its time, takes longer. Deterministic: no random draw.
+    """
+    assert route.leg_speeds is not None
+    ends = _leg_ends(path, route.points)
+    target = np.linalg.norm(np.diff(route.points, axis=0), axis=1) / route.leg_speeds
+    n = max(2, math.ceil(path.length / _PACE_DS_M))
+    grid = np.linspace(0.0, path.length, n + 1)
+    leg = np.clip(np.searchsorted(ends, grid, side="right") - 1, 0, len(target) - 1)
+    fluctuation = np.interp(grid, *speed_factor)
+    curve_cap = omega_lim / np.maximum(
+        path.max_curvature(grid, 0.5 * float(step_length_m(v_cruise, params.height_m))), 1e-9
+    )
+    rest = np.searchsorted(grid, [d.s for d in dwells]).clip(0, n)
+    standing = np.bincount(
+        np.clip(np.searchsorted(ends, [d.s for d in dwells], side="right") - 1, 0, len(target) - 1),
+        weights=[d.duration for d in dwells],
+        minlength=len(target),
+    )
+    cap = np.clip(np.asarray(route.leg_speeds, dtype=float), *_PACE_CAP_MPS)
+    v, dtau = np.empty(len(grid)), np.empty(len(grid) - 1)
+    for _ in range(_PACE_PASSES):
+        v_lim = np.minimum(cap[leg] * fluctuation, curve_cap)
+        v_lim[rest] = 0.0
+        _speed_profile(grid, v_lim, 0.0, 2.0 * params.max_accel_mps2, v, dtau)
+        took = np.diff(np.interp(ends, grid, cumsum0(dtau))) + standing
+        cap = np.clip(cap * took / target, *_PACE_CAP_MPS)
+    return grid, cap[leg] * fluctuation / v_cruise
 
 
 @dataclass(frozen=True)

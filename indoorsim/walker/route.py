@@ -66,12 +66,16 @@ class Route:
         points: (L, 2) polyline vertices in the building frame, metres; no two
             consecutive points coincide. Read-only.
         speed: desired walking speed in m/s.
+        leg_speeds: (L − 1,) mean speed over each leg, m/s, or None: every leg at
+            ``speed`` (:attr:`~indoorsim.scenario.schema.RouteSpec.leg_speeds`).
+            Read-only.
         length: total polyline length in metres (derived from ``points``).
     """
 
     name: str
     points: NDArray[np.float64]
     speed: float
+    leg_speeds: NDArray[np.float64] | None = None
     length: float = field(init=False)
 
     def __post_init__(self) -> None:
@@ -83,6 +87,15 @@ class Route:
             raise ValueError(f"route {self.name!r}: consecutive points must differ")
         if not self.speed > 0:
             raise ValueError(f"route {self.name!r}: speed must be > 0, got {self.speed}")
+        if self.leg_speeds is not None:
+            legs_v = np.array(self.leg_speeds, dtype=float)
+            if legs_v.shape != (len(pts) - 1,) or not np.all(legs_v > 0):
+                raise ValueError(
+                    f"route {self.name!r}: leg_speeds must be {len(pts) - 1} positive "
+                    f"speeds (one per leg), got {legs_v.tolist()}"
+                )
+            legs_v.flags.writeable = False
+            object.__setattr__(self, "leg_speeds", legs_v)
         pts.flags.writeable = False
         object.__setattr__(self, "points", pts)
         object.__setattr__(self, "length", float(legs.sum()))
@@ -111,7 +124,11 @@ def plan_route(plan: FloorPlan, spec: RouteSpec, name: str = "", clearance: floa
     """
     label = f"route {name!r}" if name else "route"
     if spec.waypoints is not None:
-        pts = _dedupe(np.asarray(spec.waypoints, dtype=float))
+        given = np.asarray(spec.waypoints, dtype=float)
+        kept = _distinct(given)
+        pts = given[kept]
+        # A repeated waypoint's leg has no length: its speed goes with it.
+        leg_speeds = None if spec.leg_speeds is None else np.asarray(spec.leg_speeds)[kept[1:]]
         if len(pts) < 2:
             raise RouteError(f"{label}: all waypoints are the same point {pts[0].tolist()}")
         bad = ~_segments_covered(plan.walkable, pts[:-1], pts[1:])
@@ -123,7 +140,7 @@ def plan_route(plan: FloorPlan, spec: RouteSpec, name: str = "", clearance: floa
                 f"{label}: not walkable (leaves the walkable area or passes through "
                 f"a wall, pillar or obstacle): {legs}"
             )
-        return Route(name=name, points=pts, speed=spec.speed)
+        return Route(name=name, points=pts, speed=spec.speed, leg_speeds=leg_speeds)
     assert spec.start is not None and spec.goal is not None  # RouteSpec guarantees the pair
     start, goal = np.asarray(spec.start, float), np.asarray(spec.goal, float)
     pts = _shortest_path(plan, start, goal, clearance, label)
@@ -133,10 +150,14 @@ def plan_route(plan: FloorPlan, spec: RouteSpec, name: str = "", clearance: floa
 # ---------------------------------------------------------------------- helpers
 
 
+def _distinct(pts: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """(L,) False where a point repeats its predecessor."""
+    return np.r_[True, np.linalg.norm(np.diff(pts, axis=0), axis=1) > _SAME_POINT_M]
+
+
 def _dedupe(pts: NDArray[np.float64]) -> NDArray[np.float64]:
     """Drop points that repeat their predecessor."""
-    keep = np.r_[True, np.linalg.norm(np.diff(pts, axis=0), axis=1) > _SAME_POINT_M]
-    return pts[keep]
+    return pts[_distinct(pts)]
 
 
 def _segments_covered(

@@ -149,6 +149,33 @@ def test_stops_stand_still_without_steps(corridor):
     assert body.speed[core].max() < 0.01
 
 
+def _leg_times(corridor, params: WalkerParams, seed: int) -> np.ndarray:
+    """How long a walker takes over each leg of a paced straight route: 12 m at 0.8 m/s,
+    24 m at 1.5 m/s, then 2 m at 1.9 m/s (too short to reach that from a walk that
+    ends at rest)."""
+    spec = RouteSpec(
+        waypoints=[(1.0, 1.5), (13.0, 1.5), (37.0, 1.5), (39.0, 1.5)],
+        leg_speeds=[0.8, 1.5, 1.9],
+    )
+    body = walk(corridor, plan_route(corridor, spec), params, np.random.default_rng(seed))
+    passed = np.interp([13.0, 37.0, 39.0 - 1e-6], body.pos[:, 0], body.t)
+    return np.diff(np.r_[params.stand_start_s, passed])
+
+
+def test_each_leg_takes_its_length_over_its_speed(corridor):
+    legs = _leg_times(corridor, WalkerParams(), 5)
+    assert legs[:2] == pytest.approx([12.0 / 0.8, 24.0 / 1.5], rel=0.02)
+    assert legs[2] > 2.0 / 1.9 * 1.5
+    # Stops count to their leg's time: the walker makes it up by walking faster.
+    stopping = WalkerParams(stop_rate_per_min=2.0, stop_duration_s=(2.0, 2.0))
+    legs = _leg_times(corridor, stopping, 5)
+    assert legs[:2] == pytest.approx([12.0 / 0.8, 24.0 / 1.5], rel=0.06)
+    # Without leg speeds the walker keeps to the route's cruising speed.
+    route = plan_route(corridor, RouteSpec(waypoints=[(1.0, 1.5), (39.0, 1.5)], speed=1.2))
+    body = walk(corridor, route, WalkerParams(), np.random.default_rng(5))
+    assert np.median(body.speed[body.moving]) == pytest.approx(1.2, rel=0.1)
+
+
 # ---------------------------------------------------------------------- speed profile
 
 

@@ -36,6 +36,21 @@ def test_repeated_waypoints_collapse(l_plan):
     np.testing.assert_array_equal(route.points, [(1, 1), (5, 1)])
 
 
+def test_leg_speeds_go_with_their_legs(l_plan):
+    spec = RouteSpec(waypoints=[(1, 1), (1, 1), (5, 1), (9, 1)], leg_speeds=[0.5, 0.8, 1.4])
+    route = plan_route(l_plan, spec)
+    np.testing.assert_array_equal(route.points, [(1, 1), (5, 1), (9, 1)])
+    np.testing.assert_array_equal(route.leg_speeds, [0.8, 1.4])  # the repeat's leg dropped
+    with pytest.raises(ValueError):
+        route.leg_speeds[0] = 2.0
+    with pytest.raises(ValueError, match="'leg_speeds' has 1 speeds for 2 legs"):
+        RouteSpec(waypoints=[(1, 1), (5, 1), (9, 1)], leg_speeds=[1.0])
+    with pytest.raises(ValueError, match="'leg_speeds' needs 'waypoints'"):
+        RouteSpec(start=(1, 1), goal=(5, 1), leg_speeds=[1.0])
+    with pytest.raises(ValueError, match="leg_speeds must be 1 positive speeds"):
+        Route(name="r", points=np.array([(1.0, 1.0), (5.0, 1.0)]), speed=1.0, leg_speeds=[1, 2])
+
+
 def test_route_is_immutable(l_plan):
     route = plan_route(l_plan, RouteSpec(waypoints=[(1, 1), (5, 1)]))
     with pytest.raises(dataclasses.FrozenInstanceError):

@@ -72,8 +72,9 @@ over the public space and, in 40 % of the shops with a door, one on the shop's
 far wall. Furniture, kiosks and windows are not placed.
 
 **Routes** (:func:`add_trace_routes`): a trace's waypoints become a waypoint
-route of the same name, walked at the trace's speed (waypoint path length
-over the time from the first to the last waypoint, :func:`waypoint_speed`). A
+route of the same name, each leg paced as the surveyor walked it (its length
+over the time between its waypoints, :func:`leg_speeds`; the route's cruising
+speed is the trace's, :func:`waypoint_speed`). A
 waypoint outside the public space (in a shop, a wall or a column) is moved to
 the nearest point 0.1 m inside the public space when one is within 1 m, or
 else the trace is left out with the reason. A leg whose straight line passes
@@ -118,6 +119,7 @@ __all__ = [
     "RouteImport",
     "add_trace_routes",
     "import_ilc_floor",
+    "leg_speeds",
     "parse_ilc_floor",
     "read_ilc_floor",
     "waypoint_speed",
@@ -749,6 +751,23 @@ def waypoint_speed(waypoints: Sequence[Sequence[float]], times_s: Sequence[float
     return float(np.linalg.norm(np.diff(xy, axis=0), axis=1).sum() / (t[-1] - t[0]))
 
 
+def leg_speeds(waypoints: Sequence[Sequence[float]], times_s: Sequence[float]) -> list[float]:
+    """Walking speed over each leg of a trace, from one waypoint to the next: its length
+    over the time between them, m/s (NaN where that time is not positive).
+
+    >>> leg_speeds([(0, 0), (3, 0), (3, 4)], [0.0, 2.0, 7.0])
+    [1.5, 0.8]
+    """
+    xy = np.asarray(waypoints, dtype=float).reshape(-1, 2)
+    t = np.asarray(times_s, dtype=float)
+    if len(t) != len(xy):
+        raise ValueError(f"{len(xy)} waypoints but {len(t)} times")
+    dt = np.diff(t)
+    lengths = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(dt > 0, lengths / dt, math.nan).tolist()
+
+
 @dataclass(frozen=True, kw_only=True)
 class RouteImport:
     """Routes added from traces: the scenario with them, and what happened to each trace."""
@@ -777,12 +796,14 @@ def _through(leg: LineString, room_polys: list[tuple[str, Polygon]]) -> str:
 
 def add_trace_routes(
     imported: ImportedPlan,
-    traces: Mapping[str, tuple[Sequence[Sequence[float]], float]],
+    traces: Mapping[str, tuple[Sequence[Sequence[float]], float | Sequence[float]]],
     *,
     nudge_m: float = _NUDGE_M,
     detour: bool = True,
 ) -> RouteImport:
-    """Add one waypoint route per trace: ``name → (waypoints, speed m/s)``.
+    """Add one waypoint route per trace: ``name → (waypoints, speed m/s)``, the speed
+    one for the whole trace or one per leg (:func:`leg_speeds`: the route paces
+    each leg as the surveyor walked it).
 
     A waypoint outside the public space (in a shop, a wall or a column) moves to
     the nearest point 0.1 m inside the public space when that is within
@@ -806,18 +827,37 @@ def add_trace_routes(
     kept: dict[str, list[str]] = {}
     left_out: dict[str, str] = {}
     marks: dict[str, list[list[float]]] = {}
-    for trace, (waypoints, speed) in traces.items():
+    for trace, (waypoints, given_speed) in traces.items():
         xy = np.asarray(waypoints, dtype=float).reshape(-1, 2)
+        per_leg = None if np.ndim(given_speed) == 0 else np.asarray(given_speed, dtype=float)
+        if per_leg is not None and per_leg.shape != (max(len(xy) - 1, 0),):
+            left_out[trace] = f"{per_leg.size} leg speeds for {max(len(xy) - 1, 0)} legs"
+            continue
         if len(xy):
             step = np.r_[True, np.linalg.norm(np.diff(xy, axis=0), axis=1) >= 0.01]
             xy = xy[step]
+            if per_leg is not None:
+                per_leg = per_leg[step[1:]]  # a repeated waypoint's leg has no length
         if len(xy) < 2:
             left_out[trace] = "fewer than two distinct waypoints"
             continue
+        lengths = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+        speed = (
+            float(given_speed)
+            if per_leg is None
+            else float(lengths.sum() / (lengths / per_leg).sum())
+        )
         if not (math.isfinite(speed) and 0.1 < speed <= 3.0):
             left_out[trace] = f"walking speed {speed:.2f} m/s is outside (0.1, 3] m/s"
             continue
         notes: list[str] = []
+        if per_leg is not None:
+            bad = ~((per_leg > 0.1) & (per_leg <= 3.0))
+            if bad.any():
+                left_out[trace] = "leg speeds outside (0.1, 3] m/s: " + ", ".join(
+                    f"leg {j} {per_leg[j]:.2f}" for j in np.flatnonzero(bad)
+                )
+                continue
         reason = ""
         ok = shapely.contains_xy(free, xy[:, 0], xy[:, 1])
         for j in np.flatnonzero(~ok).tolist():
@@ -844,9 +884,14 @@ def add_trace_routes(
         legs = shapely.linestrings(np.stack([xy[:-1], xy[1:]], axis=1))
         blocked = plan.crosses_wall(xy[:-1], xy[1:]) | ~shapely.covers(plan.walkable, legs)
         path = [xy[:1]]
+        # Each walked leg's speed: a trace leg's own, or on its way round a wall,
+        # raised so that the leg keeps its time.
+        paced: list[NDArray[np.float64]] = []
         for j in range(len(xy) - 1):
             if not blocked[j]:
                 path.append(xy[j + 1 : j + 2])
+                if per_leg is not None:
+                    paced.append(per_leg[j : j + 1])
                 continue
             leg = LineString(xy[j : j + 2])
             where = (
@@ -872,6 +917,8 @@ def add_trace_routes(
                 break
             notes.append(f"{where}: walked round it, {way.length - leg.length:.2f} m longer")
             path.append(np.round(way.points[1:], 3))
+            if per_leg is not None:
+                paced.append(np.full(len(way.points) - 1, per_leg[j] * way.length / leg.length))
         if reason:
             left_out[trace] = reason
             continue
@@ -886,6 +933,14 @@ def add_trace_routes(
                 left_out[trace] = f"walking speed {speed:.2f} m/s round the walls is above 3 m/s"
                 continue
         routes[trace] = {"waypoints": pts.tolist(), "speed": mm(speed)}
+        if per_leg is not None:
+            walked_legs = np.concatenate(paced)
+            if walked_legs.max() > 3.0:
+                left_out[trace] = (
+                    f"a leg's speed round the walls, {walked_legs.max():.2f} m/s, is above 3 m/s"
+                )
+                continue
+            routes[trace]["leg_speeds"] = [mm(v) for v in walked_legs]
         kept[trace] = notes
         marks[trace] = xy.tolist()
     data = scenario_to_dict(base)

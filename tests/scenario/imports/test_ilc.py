@@ -15,6 +15,7 @@ from indoorsim.scenario.imports import (
     PlanImportError,
     add_trace_routes,
     import_ilc_floor,
+    leg_speeds,
     parse_ilc_floor,
     read_ilc_floor,
     waypoint_speed,
@@ -151,6 +152,11 @@ def test_a_leg_through_a_shop_is_walked_round_it_or_left_out():
     assert 5.0 < length < 8.0
     assert route.speed == pytest.approx(1.2 * length / 5.0, abs=1e-3)
     assert result.kept["through"][0].startswith(where + ": walked round it, ")
+    # Paced per leg, the way round keeps the leg's time: each of its legs faster.
+    paced = add_trace_routes(imported, {"through": ([(9.0, 2.2), (14.0, 2.2)], [1.2])})
+    way = paced.scenario.routes["through"]
+    assert way.waypoints == route.waypoints
+    assert way.leg_speeds == pytest.approx([1.2 * length / 5.0] * (len(pts) - 1), abs=1e-3)
     kiosk = Polygon(shops["kiosk"])
     assert not LineString(pts).intersects(kiosk)
     # The trace's own marks are the two a surveyor made, not the way round's corners.
@@ -160,6 +166,29 @@ def test_a_leg_through_a_shop_is_walked_round_it_or_left_out():
 def test_waypoint_speed_is_path_length_over_time():
     assert waypoint_speed([(0, 0), (3, 0), (3, 4)], [10.0, 12.0, 17.0]) == 1.0
     assert math.isnan(waypoint_speed([(0, 0), (1, 0)], [5.0, 5.0]))
+
+
+def test_leg_speeds_are_each_legs_length_over_its_time():
+    assert leg_speeds([(0, 0), (3, 0), (3, 4)], [10.0, 12.0, 17.0]) == [1.5, 0.8]
+    assert math.isnan(leg_speeds([(0, 0), (1, 0)], [5.0, 5.0])[0])
+    with pytest.raises(ValueError, match="2 waypoints but 1 times"):
+        leg_speeds([(0, 0), (1, 0)], [5.0])
+
+
+def test_a_trace_paced_leg_by_leg_keeps_each_legs_time(two_shops):
+    traces = {
+        # A repeated waypoint's leg (no length) goes; the route's speed is the trace's.
+        "paced": ([(1.0, 2.0), (8.0, 2.0), (8.0, 2.0), (18.0, 2.0)], [0.7, 0.05, 1.4]),
+        "miscounted": ([(1.0, 2.0), (18.0, 2.0)], [1.0, 1.2]),
+        "too_slow": ([(1.0, 2.0), (17.0, 2.0), (18.0, 2.0)], [1.2, 0.05]),
+    }
+    result = add_trace_routes(two_shops, traces)
+    route = result.scenario.routes["paced"]
+    assert route.waypoints == [(1.0, 2.0), (8.0, 2.0), (18.0, 2.0)]
+    assert route.leg_speeds == [0.7, 1.4]
+    assert route.speed == pytest.approx(17.0 / (7.0 / 0.7 + 10.0 / 1.4), abs=1e-3)
+    assert result.left_out["miscounted"] == "2 leg speeds for 1 legs"
+    assert result.left_out["too_slow"] == "leg speeds outside (0.1, 3] m/s: leg 1 0.05"
 
 
 @pytest.mark.parametrize(
