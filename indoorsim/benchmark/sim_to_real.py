@@ -470,7 +470,8 @@ def walk_signals(rec: Recording) -> dict[str, float]:
     how straight the legs were walked, read from the gyro against the marks
     (:func:`~indoorsim.benchmark.realism.headings.leg_headings`: the median over the
     long legs of the marks' direction against the gyro's heading, in size, and of the
-    heading's swing within a leg)."""
+    heading's swing within a leg); and how fast the short and the long legs were
+    walked (:func:`_pace`)."""
     field = magnetic_statistics(rec)
     iron = hard_iron_residual(rec)
     iron_free = magnetic_statistics(rec, iron.offset_uT) if iron is not None else field
@@ -499,7 +500,30 @@ def walk_signals(rec: Recording) -> dict[str, float]:
             "lead": float(np.median(leads)) if len(leads := waypoint_lead(rec)) else float("nan"),
         }
         | _straightness(rec)
+        | _pace(rec)
     )
+
+
+_SHORT_LEG_M, _LONG_LEG_M = 4.0, 8.0
+"""Legs between waypoints shorter than the first, and at least the second, are paced
+apart: the ILC surveyors walk their short legs (turning at both ends) slowly and their
+long ones briskly."""
+
+
+def _pace(rec: Recording) -> dict[str, float]:
+    """The walking speed over a walk's short legs together, and over its long ones: their
+    length over their time between the marks (NaN without such legs)."""
+    xy = rec.waypoints[["x", "y"]].to_numpy(dtype=float)
+    dt = np.diff(rec.waypoints.index.to_numpy(dtype=float))
+    lengths = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+    out = {}
+    for key, legs in (
+        ("pace_short", lengths < _SHORT_LEG_M),
+        ("pace_long", lengths >= _LONG_LEG_M),
+    ):
+        took = dt[legs].sum()
+        out[key] = float(lengths[legs].sum() / took) if took > 0 else float("nan")
+    return out
 
 
 def _straightness(rec: Recording) -> dict[str, float]:
@@ -535,6 +559,8 @@ SIGNALS = {
     "mag_std_long": "‖m‖ std at wavelengths over 10 m (µT)",
     "hard_iron": "the magnetometer's residual hard iron, where the turns show it (µT)",
     "mag_std_iron_free": "‖m‖ std along the path without it (µT)",
+    "pace_short": "walking speed over legs under 4 m (m/s)",
+    "pace_long": "walking speed over legs of 8 m or more (m/s)",
     "lead": "corner waypoints marked before the walker's turn (s)",
     "leg_marks": "legs of 4 m or more: the marks' direction against the gyro's heading (°)",
     "leg_swing": "legs of 4 m or more: the heading's swing within one, 2 s means (°)",
@@ -741,7 +767,8 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         "",
         f"The {traces} Indoor Location Competition traces (MIT; site 1, floor F1) and, for "
         f"each, {seeds} simulated twins: the floor imported by `indoorsim import-plan`, "
-        "the trace's waypoints as the route, the phone held flat, and the phone and walker "
+        "the trace's waypoints as the route, each leg walked in the trace's time between "
+        "its waypoints, the phone held flat, and the phone and walker "
         "`indoorsim calibrate` fits to the trace (the walker's height, speed and "
         "cadence, how far it stood turned before its first step, and its vigour through "
         "the flat-held phone: bounce, loading peak and heel strikes). Both scored the "

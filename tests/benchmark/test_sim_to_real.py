@@ -10,6 +10,7 @@ from indoorsim.benchmark.sim_to_real import (
     SIGNALS,
     StepWalk,
     TwinResults,
+    _pace,
     as_real_log,
     count_steps,
     passing_times,
@@ -136,6 +137,19 @@ def test_the_lead_of_a_corner_mark_is_read_from_the_gyros_turn(sway):
     assert len(waypoint_lead(Recording._from_built(streams, {}))) == 0
 
 
+def test_pace_is_the_short_and_the_long_legs_length_over_their_time():
+    waypoints = pd.DataFrame(
+        {"x": [0.0, 2.0, 2.0, 12.0, 12.0], "y": [0.0, 0.0, 3.0, 3.0, 8.0]},
+        index=pd.Index([0.0, 4.0, 7.0, 15.0, 20.0], name="t"),
+    )
+    pace = _pace(Recording._from_built({"waypoints": waypoints}, {}))
+    # 2 m in 4 s and 3 m in 3 s; 10 m in 8 s; the 5 m leg is neither.
+    assert pace == pytest.approx({"pace_short": 5.0 / 7.0, "pace_long": 10.0 / 8.0})
+    assert np.isnan(
+        _pace(Recording._from_built({"waypoints": waypoints.iloc[:2]}, {}))["pace_long"]
+    )
+
+
 def test_a_twin_shows_every_signal_the_table_compares():
     site = load_site("han2023_corridor")
     route = next(iter(site.scenario.routes))
@@ -145,6 +159,9 @@ def test_a_twin_shows_every_signal_the_table_compares():
     assert set(signals) == set(SIGNALS)
     # The hard iron only where the walk turns far enough to show it; this one does not.
     assert np.isnan(signals.pop("hard_iron"))
+    # Its legs are all long: the corridor's 20 m runs at the route's 1.1 m/s or so.
+    assert np.isnan(signals.pop("pace_short"))
+    assert signals["pace_long"] == pytest.approx(1.1, rel=0.15)
     assert signals["mag_std_iron_free"] == signals["mag_std"]
     assert all(np.isfinite(v) for v in signals.values()), signals
     # A held phone bobs more than it surges, and the field varies along a real corridor.
