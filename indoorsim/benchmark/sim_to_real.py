@@ -71,7 +71,6 @@ from indoorsim.scenario.generate import generate
 from indoorsim.scenario.imports import (
     add_trace_routes,
     import_ilc_floor,
-    leg_speeds,
     read_ilc_floor,
 )
 from indoorsim.scenario.load import load_site
@@ -610,7 +609,7 @@ def twin_site(realdata: Path, *, seed: int = 0) -> TwinSite:
     for name, path in paths.items():
         wp = read_ilc_trace(path).waypoints
         xy = wp[["x", "y"]].to_numpy(dtype=float)
-        traces[name] = (xy.tolist(), leg_speeds(xy, wp.index.to_numpy(dtype=float)))
+        traces[name] = (xy.tolist(), wp.index.to_numpy(dtype=float).tolist())
     routes = add_trace_routes(imported, traces)
     return TwinSite(
         site=load_site(routes.scenario),

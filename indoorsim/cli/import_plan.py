@@ -65,10 +65,9 @@ def add_import_plan(subparsers: Subparsers) -> None:
 def _read_traces(
     folder: Path,
 ) -> tuple[dict[str, tuple[list[list[float]], list[float]]], dict[str, str]]:
-    """Waypoints and leg speeds of each trace in ``folder``, and the traces that have none."""
+    """Waypoints and their times of each trace in ``folder``, and the traces that have none."""
     from indoorsim.io.reallogs.ilc import looks_like_ilc_trace, read_ilc_trace
     from indoorsim.io.recording import RecordingError
-    from indoorsim.scenario.imports import leg_speeds
 
     if not folder.is_dir():
         raise CliError(f"--traces {folder}: no such folder")
@@ -87,7 +86,7 @@ def _read_traces(
             unreadable[path.stem] = "fewer than two TYPE_WAYPOINT rows"
             continue
         xy = waypoints[["x", "y"]].to_numpy()
-        traces[path.stem] = (xy.tolist(), leg_speeds(xy, waypoints.index.to_numpy()))
+        traces[path.stem] = (xy.tolist(), waypoints.index.to_numpy(dtype=float).tolist())
     return traces, unreadable
 
 

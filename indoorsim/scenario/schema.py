@@ -531,9 +531,12 @@ class RouteSpec(_Spec):
     leg_speeds: list[Annotated[float, Field(gt=0.1, le=3.0, allow_inf_nan=False)]] | None = None
     """With waypoints: the mean speed over each leg between consecutive waypoints,
     m/s, one per leg — the walker paces each leg to take its length over that
-    speed, within its acceleration and turning limits (a real surveyor's trace,
-    fast on long straight legs and slow on short ones). None walks every leg at
-    the cruising speed. The walker's step geometry still follows ``speed``."""
+    speed, within its acceleration and turning limits and a top walking speed of
+    2 m/s (a real surveyor's trace, fast on long straight legs and slow on short
+    ones). The first leg's time includes the walker's standing before its first
+    step; a stop or a turn on the spot counts to the leg it is on (a turn at a
+    waypoint, to the leg after it). None walks every leg at the cruising speed.
+    The walker's step geometry still follows ``speed``."""
 
     @model_validator(mode="after")
     def _one_form(self) -> RouteSpec:

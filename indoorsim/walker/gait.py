@@ -98,6 +98,11 @@ _PROFILE_DS_M = 0.01
 _PACE_DS_M = 0.05
 _PACE_PASSES = 12
 _PACE_CAP_MPS = (0.15, 2.0)
+# Where a route point falls on the walked path (_leg_ends): sampled this finely (m),
+# the first pass within this of the closest (m; a corner's arc misses its waypoint by
+# a few centimetres to decimetres).
+_PASS_DS_M = 0.02
+_PASS_SLACK_M = 0.5
 # Stops keep this far (m) from the route ends, pivots and each other.
 _STOP_GAP_M = 3.0
 # A walk cut short still steers its body this long past the cut (s).
@@ -570,32 +575,30 @@ def _speed_fluctuation(
 
 
 def _leg_ends(path: SmoothPath, points: NDArray[np.float64]) -> NDArray[np.float64]:
-    """(L,) distance along the walked path of each route point: 0, the nearest point of
-    the path to each inner point, searched in order (past the previous one and within
-    its leg's reach, so a route that comes back past a point is not confused), the
-    length."""
+    """(L,) distance along the walked path of each route point: 0, where the path first
+    comes closest to each inner point, searched in order from the previous one (the
+    first approach within :data:`_PASS_SLACK_M` of the closest within a leg and a half,
+    so that a route coming back past a point is not taken for its first pass), the
+    length. An end within :data:`_PASS_SLACK_M` of a turn on the spot is put at it: the
+    turn starts the leg after it."""
     ends = np.empty(len(points))
     ends[0], ends[-1] = 0.0, path.length
     legs = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    pivots = np.array([s for s, _ in path.pivots])
     for i in range(1, len(points) - 1):
-        # The path's pieces from the previous end to a leg and a half beyond it.
-        lo = max(int(np.searchsorted(path.s, ends[i - 1], side="right")) - 1, 0)
-        reach = ends[i - 1] + 1.5 * legs[i - 1] + 2.0
-        hi = min(max(int(np.searchsorted(path.s, reach)), lo + 1), len(path.s) - 1)
-        a, b = path.xy[lo:hi], path.xy[lo + 1 : hi + 1]
-        ab = b - a
-        along = np.clip(
-            np.einsum("ij,ij->i", points[i] - a, ab)
-            / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-18),
-            0.0,
-            1.0,
-        )
-        gap = np.linalg.norm(a + along[:, None] * ab - points[i], axis=1)
-        k = int(np.argmin(gap))
-        ends[i] = max(
-            path.s[lo + k] + along[k] * (path.s[lo + k + 1] - path.s[lo + k]), ends[i - 1]
-        )
-    return np.minimum(ends, path.length)
+        lo = ends[i - 1]
+        hi = min(path.length, lo + 1.5 * legs[i - 1] + 2.0)
+        along = np.linspace(lo, hi, max(2, math.ceil((hi - lo) / _PASS_DS_M) + 1))
+        gap = np.linalg.norm(path.position(along) - points[i], axis=1)
+        near = np.flatnonzero(gap <= gap.min() + _PASS_SLACK_M)
+        breaks = np.flatnonzero(np.diff(near) > 1)
+        last = near[breaks[0]] + 1 if len(breaks) else near[-1] + 1
+        ends[i] = along[near[0] + int(np.argmin(gap[near[0] : last]))]
+        if len(pivots):
+            k = int(np.argmin(np.abs(pivots - ends[i])))
+            if abs(pivots[k] - ends[i]) <= _PASS_SLACK_M and pivots[k] >= lo:
+                ends[i] = pivots[k]
+    return ends
 
 
 def _paced_legs(
@@ -613,8 +616,10 @@ def _paced_legs(
     A leg's mean speed is below its cap: the walker starts, stops and slows for
     turns within it. So the caps are found by fixed-point iteration on the walk's
     speed profile (the bouts' own, :func:`_speed_profile`, over the whole path,
-    at rest at every dwell, whose time counts to its leg): each pass scales a
-    leg's cap by the time it took over the time it should. Caps stay within
+    at rest at every dwell, whose time counts to its leg, and the standing
+    before the first step to the first leg: a route's time starts at its first
+    waypoint, as a surveyor's first mark does): each pass scales a leg's cap by
+    the time it took over the time it should. Caps stay within
     :data:`_PACE_CAP_MPS`; a leg too short to reach its speed, or holding more
     standing than its time, takes longer. Deterministic: no random draw.
     """
@@ -634,6 +639,7 @@ def _paced_legs(
         weights=[d.duration for d in dwells],
         minlength=len(target),
     )
+    standing[0] += params.stand_start_s
     cap = np.clip(np.asarray(route.leg_speeds, dtype=float), *_PACE_CAP_MPS)
     v, dtau = np.empty(len(grid)), np.empty(len(grid) - 1)
     for _ in range(_PACE_PASSES):

@@ -89,9 +89,9 @@ class Route:
             raise ValueError(f"route {self.name!r}: speed must be > 0, got {self.speed}")
         if self.leg_speeds is not None:
             legs_v = np.array(self.leg_speeds, dtype=float)
-            if legs_v.shape != (len(pts) - 1,) or not np.all(legs_v > 0):
+            if legs_v.shape != (len(pts) - 1,) or not np.all((legs_v > 0) & np.isfinite(legs_v)):
                 raise ValueError(
-                    f"route {self.name!r}: leg_speeds must be {len(pts) - 1} positive "
+                    f"route {self.name!r}: leg_speeds must be {len(pts) - 1} positive, finite "
                     f"speeds (one per leg), got {legs_v.tolist()}"
                 )
             legs_v.flags.writeable = False

@@ -150,7 +150,8 @@ def test_stops_stand_still_without_steps(corridor):
 
 
 def _leg_times(corridor, params: WalkerParams, seed: int) -> np.ndarray:
-    """How long a walker takes over each leg of a paced straight route: 12 m at 0.8 m/s,
+    """How long a walker takes over each leg of a paced straight route, from the walk's
+    start (its standing before the first step is the first leg's): 12 m at 0.8 m/s,
     24 m at 1.5 m/s, then 2 m at 1.9 m/s (too short to reach that from a walk that
     ends at rest)."""
     spec = RouteSpec(
@@ -158,8 +159,8 @@ def _leg_times(corridor, params: WalkerParams, seed: int) -> np.ndarray:
         leg_speeds=[0.8, 1.5, 1.9],
     )
     body = walk(corridor, plan_route(corridor, spec), params, np.random.default_rng(seed))
-    passed = np.interp([13.0, 37.0, 39.0 - 1e-6], body.pos[:, 0], body.t)
-    return np.diff(np.r_[params.stand_start_s, passed])
+    passed = [body.t[np.argmax(body.pos[:, 0] >= x)] for x in (13.0, 37.0, 39.0 - 1e-3)]
+    return np.diff(np.r_[0.0, passed])
 
 
 def test_each_leg_takes_its_length_over_its_speed(corridor):
@@ -170,10 +171,26 @@ def test_each_leg_takes_its_length_over_its_speed(corridor):
     stopping = WalkerParams(stop_rate_per_min=2.0, stop_duration_s=(2.0, 2.0))
     legs = _leg_times(corridor, stopping, 5)
     assert legs[:2] == pytest.approx([12.0 / 0.8, 24.0 / 1.5], rel=0.06)
-    # Without leg speeds the walker keeps to the route's cruising speed.
-    route = plan_route(corridor, RouteSpec(waypoints=[(1.0, 1.5), (39.0, 1.5)], speed=1.2))
-    body = walk(corridor, route, WalkerParams(), np.random.default_rng(5))
-    assert np.median(body.speed[body.moving]) == pytest.approx(1.2, rel=0.1)
+
+
+def test_paced_legs_round_corners_and_back_past_a_point(l_plan):
+    # Out along the corridor, round the corner (a turn on the arc), up, back down
+    # past the corner's point (a turn on the spot, about 2 s, the fourth leg's) and
+    # out again: each leg in its time.
+    points = [(1.0, 1.0), (11.0, 1.0), (11.0, 5.0), (11.0, 9.0), (11.0, 5.0), (11.0, 1.0)]
+    speeds = [1.0, 0.8, 0.9, 0.6, 0.9]
+    spec = RouteSpec(waypoints=points, leg_speeds=speeds)
+    params = WalkerParams()
+    body = walk(l_plan, plan_route(l_plan, spec), params, np.random.default_rng(3))
+    # Passing times: the closest approach to each point after the previous one's.
+    at, start = [0.0], 0
+    for p in points[1:]:
+        d = np.linalg.norm(body.pos[start:, :2] - p, axis=1)
+        first = np.flatnonzero(d <= d.min() + 0.3)
+        start += int(first[0] + np.argmin(d[first[0] : first[0] + 400]))
+        at.append(body.t[start])
+    lengths = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    assert np.diff(at) == pytest.approx(lengths / speeds, rel=0.1)
 
 
 # ---------------------------------------------------------------------- speed profile

@@ -47,7 +47,7 @@ def test_leg_speeds_go_with_their_legs(l_plan):
         RouteSpec(waypoints=[(1, 1), (5, 1), (9, 1)], leg_speeds=[1.0])
     with pytest.raises(ValueError, match="'leg_speeds' needs 'waypoints'"):
         RouteSpec(start=(1, 1), goal=(5, 1), leg_speeds=[1.0])
-    with pytest.raises(ValueError, match="leg_speeds must be 1 positive speeds"):
+    with pytest.raises(ValueError, match="leg_speeds must be 1 positive, finite speeds"):
         Route(name="r", points=np.array([(1.0, 1.0), (5.0, 1.0)]), speed=1.0, leg_speeds=[1, 2])
 
 

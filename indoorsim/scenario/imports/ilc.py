@@ -73,8 +73,8 @@ far wall. Furniture, kiosks and windows are not placed.
 
 **Routes** (:func:`add_trace_routes`): a trace's waypoints become a waypoint
 route of the same name, each leg paced as the surveyor walked it (its length
-over the time between its waypoints, :func:`leg_speeds`; the route's cruising
-speed is the trace's, :func:`waypoint_speed`). A
+over the time between its waypoints; the route's cruising speed is the trace's,
+:func:`waypoint_speed`). A
 waypoint outside the public space (in a shop, a wall or a column) is moved to
 the nearest point 0.1 m inside the public space when one is within 1 m, or
 else the trace is left out with the reason. A leg whose straight line passes
@@ -119,7 +119,6 @@ __all__ = [
     "RouteImport",
     "add_trace_routes",
     "import_ilc_floor",
-    "leg_speeds",
     "parse_ilc_floor",
     "read_ilc_floor",
     "waypoint_speed",
@@ -751,23 +750,6 @@ def waypoint_speed(waypoints: Sequence[Sequence[float]], times_s: Sequence[float
     return float(np.linalg.norm(np.diff(xy, axis=0), axis=1).sum() / (t[-1] - t[0]))
 
 
-def leg_speeds(waypoints: Sequence[Sequence[float]], times_s: Sequence[float]) -> list[float]:
-    """Walking speed over each leg of a trace, from one waypoint to the next: its length
-    over the time between them, m/s (NaN where that time is not positive).
-
-    >>> leg_speeds([(0, 0), (3, 0), (3, 4)], [0.0, 2.0, 7.0])
-    [1.5, 0.8]
-    """
-    xy = np.asarray(waypoints, dtype=float).reshape(-1, 2)
-    t = np.asarray(times_s, dtype=float)
-    if len(t) != len(xy):
-        raise ValueError(f"{len(xy)} waypoints but {len(t)} times")
-    dt = np.diff(t)
-    lengths = np.linalg.norm(np.diff(xy, axis=0), axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(dt > 0, lengths / dt, math.nan).tolist()
-
-
 @dataclass(frozen=True, kw_only=True)
 class RouteImport:
     """Routes added from traces: the scenario with them, and what happened to each trace."""
@@ -801,9 +783,10 @@ def add_trace_routes(
     nudge_m: float = _NUDGE_M,
     detour: bool = True,
 ) -> RouteImport:
-    """Add one waypoint route per trace: ``name → (waypoints, speed m/s)``, the speed
-    one for the whole trace or one per leg (:func:`leg_speeds`: the route paces
-    each leg as the surveyor walked it).
+    """Add one waypoint route per trace: ``name → (waypoints, speed m/s)``, or
+    ``name → (waypoints, times s)`` with each waypoint's time, which paces every leg
+    as the surveyor walked it (its ``leg_speeds``: the leg's length over the time
+    between its waypoints) at the trace's speed overall (:func:`waypoint_speed`).
 
     A waypoint outside the public space (in a shop, a wall or a column) moves to
     the nearest point 0.1 m inside the public space when that is within
@@ -811,11 +794,13 @@ def add_trace_routes(
     passes through a wall or column (the surveyor walked round a shop's corner
     between two waypoints) is, with ``detour``, walked round it by the shortest
     path keeping 0.35 m from everything solid (:func:`~indoorsim.walker.route.plan_route`),
-    and the speed is raised so that the walk keeps the trace's duration (the
-    real path was the longer one); a way round longer than twice the straight
-    line plus 5 m leaves the trace out, as does any blocked leg without
-    ``detour``, or a speed outside the schema's (0.1, 3] m/s. Repeated
-    waypoints (under 1 cm apart) are walked once.
+    and the speed is raised so that the walk keeps the trace's duration — and,
+    paced, the leg its time (the real path was the longer one); a way round
+    longer than twice the straight line plus 5 m leaves the trace out, as does
+    any blocked leg without ``detour``, a speed outside the schema's (0.1, 3] m/s
+    (the trace's, or a paced leg's as walked), or two waypoints marked at once
+    or out of order. Repeated waypoints (under 1 cm apart) are walked once; the
+    time a surveyor spent at one counts to the leg after it.
     """
     base = imported.scenario
     plan = plan_for(base)
@@ -827,37 +812,34 @@ def add_trace_routes(
     kept: dict[str, list[str]] = {}
     left_out: dict[str, str] = {}
     marks: dict[str, list[list[float]]] = {}
-    for trace, (waypoints, given_speed) in traces.items():
+    for trace, (waypoints, pace) in traces.items():
         xy = np.asarray(waypoints, dtype=float).reshape(-1, 2)
-        per_leg = None if np.ndim(given_speed) == 0 else np.asarray(given_speed, dtype=float)
-        if per_leg is not None and per_leg.shape != (max(len(xy) - 1, 0),):
-            left_out[trace] = f"{per_leg.size} leg speeds for {max(len(xy) - 1, 0)} legs"
+        times = None if np.ndim(pace) == 0 else np.asarray(pace, dtype=float)
+        if times is not None and times.shape != (len(xy),):
+            left_out[trace] = f"{times.size} waypoint times for {len(xy)} waypoints"
             continue
+        number = np.arange(len(xy))  # each waypoint's place in the trace, for messages
         if len(xy):
             step = np.r_[True, np.linalg.norm(np.diff(xy, axis=0), axis=1) >= 0.01]
-            xy = xy[step]
-            if per_leg is not None:
-                per_leg = per_leg[step[1:]]  # a repeated waypoint's leg has no length
+            # A repeat keeps its first time: the leg after it takes the stay too.
+            xy, number = xy[step], number[step]
+            if times is not None:
+                times = times[step]
         if len(xy) < 2:
             left_out[trace] = "fewer than two distinct waypoints"
             continue
-        lengths = np.linalg.norm(np.diff(xy, axis=0), axis=1)
-        speed = (
-            float(given_speed)
-            if per_leg is None
-            else float(lengths.sum() / (lengths / per_leg).sum())
-        )
+        took = None if times is None else np.diff(times)
+        if took is not None and not np.all(took > 0):
+            j = int(np.flatnonzero(~(took > 0))[0])
+            left_out[trace] = (
+                f"waypoints {number[j]} and {number[j + 1]} are marked {took[j]:.3f} s apart"
+            )
+            continue
+        speed = float(pace) if times is None else waypoint_speed(xy, times)
         if not (math.isfinite(speed) and 0.1 < speed <= 3.0):
             left_out[trace] = f"walking speed {speed:.2f} m/s is outside (0.1, 3] m/s"
             continue
         notes: list[str] = []
-        if per_leg is not None:
-            bad = ~((per_leg > 0.1) & (per_leg <= 3.0))
-            if bad.any():
-                left_out[trace] = "leg speeds outside (0.1, 3] m/s: " + ", ".join(
-                    f"leg {j} {per_leg[j]:.2f}" for j in np.flatnonzero(bad)
-                )
-                continue
         reason = ""
         ok = shapely.contains_xy(free, xy[:, 0], xy[:, 1])
         for j in np.flatnonzero(~ok).tolist():
@@ -884,14 +866,13 @@ def add_trace_routes(
         legs = shapely.linestrings(np.stack([xy[:-1], xy[1:]], axis=1))
         blocked = plan.crosses_wall(xy[:-1], xy[1:]) | ~shapely.covers(plan.walkable, legs)
         path = [xy[:1]]
-        # Each walked leg's speed: a trace leg's own, or on its way round a wall,
-        # raised so that the leg keeps its time.
+        # Paced, each leg as walked (straight, or its way round a wall) in its time.
         paced: list[NDArray[np.float64]] = []
         for j in range(len(xy) - 1):
             if not blocked[j]:
                 path.append(xy[j + 1 : j + 2])
-                if per_leg is not None:
-                    paced.append(per_leg[j : j + 1])
+                if took is not None:
+                    paced.append(np.array([shapely.length(legs[j]) / took[j]]))
                 continue
             leg = LineString(xy[j : j + 2])
             where = (
@@ -917,8 +898,8 @@ def add_trace_routes(
                 break
             notes.append(f"{where}: walked round it, {way.length - leg.length:.2f} m longer")
             path.append(np.round(way.points[1:], 3))
-            if per_leg is not None:
-                paced.append(np.full(len(way.points) - 1, per_leg[j] * way.length / leg.length))
+            if took is not None:
+                paced.append(np.full(len(way.points) - 1, way.length / took[j]))
         if reason:
             left_out[trace] = reason
             continue
@@ -932,15 +913,21 @@ def add_trace_routes(
             if speed > 3.0:
                 left_out[trace] = f"walking speed {speed:.2f} m/s round the walls is above 3 m/s"
                 continue
-        routes[trace] = {"waypoints": pts.tolist(), "speed": mm(speed)}
-        if per_leg is not None:
-            walked_legs = np.concatenate(paced)
-            if walked_legs.max() > 3.0:
+        route: dict[str, Any] = {"waypoints": pts.tolist(), "speed": mm(speed)}
+        if took is not None:
+            # Rounded as written, then checked against the schema's range.
+            walked_legs = [mm(float(v)) for v in np.concatenate(paced)]
+            counts = [len(p) for p in paced]
+            bad = [k for k, v in enumerate(walked_legs) if not 0.1 < v <= 3.0]
+            if bad:
+                j = int(np.searchsorted(np.cumsum(counts), bad[0], side="right"))
                 left_out[trace] = (
-                    f"a leg's speed round the walls, {walked_legs.max():.2f} m/s, is above 3 m/s"
+                    f"the leg from waypoint {number[j]} to {number[j + 1]} is walked at "
+                    f"{walked_legs[bad[0]]:.3f} m/s, outside (0.1, 3] m/s"
                 )
                 continue
-            routes[trace]["leg_speeds"] = [mm(v) for v in walked_legs]
+            route["leg_speeds"] = walked_legs
+        routes[trace] = route
         kept[trace] = notes
         marks[trace] = xy.tolist()
     data = scenario_to_dict(base)

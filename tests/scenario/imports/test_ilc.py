@@ -15,7 +15,6 @@ from indoorsim.scenario.imports import (
     PlanImportError,
     add_trace_routes,
     import_ilc_floor,
-    leg_speeds,
     parse_ilc_floor,
     read_ilc_floor,
     waypoint_speed,
@@ -153,10 +152,10 @@ def test_a_leg_through_a_shop_is_walked_round_it_or_left_out():
     assert route.speed == pytest.approx(1.2 * length / 5.0, abs=1e-3)
     assert result.kept["through"][0].startswith(where + ": walked round it, ")
     # Paced per leg, the way round keeps the leg's time: each of its legs faster.
-    paced = add_trace_routes(imported, {"through": ([(9.0, 2.2), (14.0, 2.2)], [1.2])})
+    paced = add_trace_routes(imported, {"through": ([(9.0, 2.2), (14.0, 2.2)], [3.0, 7.0])})
     way = paced.scenario.routes["through"]
     assert way.waypoints == route.waypoints
-    assert way.leg_speeds == pytest.approx([1.2 * length / 5.0] * (len(pts) - 1), abs=1e-3)
+    assert way.leg_speeds == pytest.approx([length / 4.0] * (len(pts) - 1), abs=1e-3)
     kiosk = Polygon(shops["kiosk"])
     assert not LineString(pts).intersects(kiosk)
     # The trace's own marks are the two a surveyor made, not the way round's corners.
@@ -168,27 +167,45 @@ def test_waypoint_speed_is_path_length_over_time():
     assert math.isnan(waypoint_speed([(0, 0), (1, 0)], [5.0, 5.0]))
 
 
-def test_leg_speeds_are_each_legs_length_over_its_time():
-    assert leg_speeds([(0, 0), (3, 0), (3, 4)], [10.0, 12.0, 17.0]) == [1.5, 0.8]
-    assert math.isnan(leg_speeds([(0, 0), (1, 0)], [5.0, 5.0])[0])
-    with pytest.raises(ValueError, match="2 waypoints but 1 times"):
-        leg_speeds([(0, 0), (1, 0)], [5.0])
-
-
-def test_a_trace_paced_leg_by_leg_keeps_each_legs_time(two_shops):
+def test_a_trace_with_times_is_paced_leg_by_leg(two_shops):
     traces = {
-        # A repeated waypoint's leg (no length) goes; the route's speed is the trace's.
-        "paced": ([(1.0, 2.0), (8.0, 2.0), (8.0, 2.0), (18.0, 2.0)], [0.7, 0.05, 1.4]),
-        "miscounted": ([(1.0, 2.0), (18.0, 2.0)], [1.0, 1.2]),
-        "too_slow": ([(1.0, 2.0), (17.0, 2.0), (18.0, 2.0)], [1.2, 0.05]),
+        # The stay at a repeated waypoint goes to the leg after it: 7 m in 10 s, then
+        # 10 m in 4 + 3 s; the route's speed is the trace's, 17 m in 17 s.
+        "paced": ([(1.0, 2.0), (8.0, 2.0), (8.0, 2.0), (18.0, 2.0)], [0.0, 10.0, 14.0, 17.0]),
+        "miscounted": ([(1.0, 2.0), (18.0, 2.0)], [0.0, 5.0, 9.0]),
+        "at_once": ([(1.0, 2.0), (8.0, 2.0), (8.0, 2.0), (18.0, 2.0)], [0.0, 10.0, 12.0, 10.0]),
+        # A leg crawled: 1 m in 12 s (0.083 m/s).
+        "crawled": ([(1.0, 2.0), (17.0, 2.0), (18.0, 2.0)], [0.0, 12.0, 24.0]),
+        # 0.1004 m/s rounds to 0.1, which the schema's (0.1, 3] leaves out.
+        "rounded": ([(1.0, 2.0), (11.04, 2.0), (18.0, 2.0)], [0.0, 100.0, 105.0]),
+        # Nudged out of shop A (0.65 m): the leg keeps its time, not its speed.
+        "nudged": ([(1.0, 4.5), (18.0, 2.0)], [0.0, 17.0]),
     }
     result = add_trace_routes(two_shops, traces)
     route = result.scenario.routes["paced"]
     assert route.waypoints == [(1.0, 2.0), (8.0, 2.0), (18.0, 2.0)]
-    assert route.leg_speeds == [0.7, 1.4]
-    assert route.speed == pytest.approx(17.0 / (7.0 / 0.7 + 10.0 / 1.4), abs=1e-3)
-    assert result.left_out["miscounted"] == "2 leg speeds for 1 legs"
-    assert result.left_out["too_slow"] == "leg speeds outside (0.1, 3] m/s: leg 1 0.05"
+    assert route.leg_speeds == pytest.approx([0.7, 10.0 / 7.0], abs=1e-3)
+    assert route.speed == 1.0
+    assert result.left_out["miscounted"] == "3 waypoint times for 2 waypoints"
+    # The repeat's first time (10 s) and the next waypoint's (10 s): no time between.
+    assert result.left_out["at_once"] == "waypoints 1 and 3 are marked 0.000 s apart"
+    assert result.left_out["crawled"] == (
+        "the leg from waypoint 1 to 2 is walked at 0.083 m/s, outside (0.1, 3] m/s"
+    )
+    assert "the leg from waypoint 0 to 1 is walked at 0.100 m/s" in result.left_out["rounded"]
+    nudged = result.scenario.routes["nudged"]
+    length = np.linalg.norm(np.subtract(*nudged.waypoints))
+    assert nudged.leg_speeds == pytest.approx([length / 17.0], abs=1e-3)
+
+
+def test_a_trace_left_out_for_a_leg_is_not_also_a_route():
+    shops = {**TWO_SHOPS, "kiosk": [(10, 1.5), (13, 1.5), (13, 3), (10, 3)]}
+    imported = import_ilc_floor(parse_ilc_floor(plan_geojson(shops), INFO), seed=3)
+    # The straight 5 m through the kiosk in 2 s is 2.5 m/s; round it, above 3 m/s.
+    trace = {"fast": ([(2.0, 2.2), (9.0, 2.2), (14.0, 2.2)], [0.0, 12.0, 14.0])}
+    result = add_trace_routes(imported, trace)
+    assert "is walked at" in result.left_out["fast"] and "above" not in result.left_out["fast"]
+    assert "fast" not in result.scenario.routes and "fast" not in result.kept
 
 
 @pytest.mark.parametrize(
