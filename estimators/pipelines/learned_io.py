@@ -39,17 +39,15 @@ imported floor plan of the real MS Indoor Location traces (its walls and
 shops; lights, APs and steel placed by three seeds) — so the real traces'
 building is seen in simulation, their sensor data never. No bundled scenario
 is used, so the leaderboard's buildings are unseen. Six phone models, four
-carrying modes with changes, walking speeds from a slow to a fast pace
-(0.82–1.72 m/s, REALISM §5), each walk with the vigour of one real walker
+carrying modes with changes, each walk with the vigour of one real walker
 (:mod:`indoorsim.walker.real_walkers`: the bounce, loading peak and heel strikes
 ``indoorsim calibrate`` fits to 14 of the ILC surveyors — the same people whose
 traces the real-trace table scores, so their vigour, though never their sensor
 data, is seen in training), the IMU at 50 Hz in 2 s windows every 1 s: 80 427
 windows, 72 sites to train on, 9 to validate, 9 to test. Final losses of the
-members (m²/s², mean of both velocity components): train 0.0422–0.0426, val
-0.0434–0.0449, test 0.0603–0.0637 — an RMS velocity error of about 0.25 m/s per
-axis on the test buildings (0.21 when the speeds stopped at 1.5 m/s: the faster
-walks are harder to read). Training is deterministic on CPU: the commands give
+members (m²/s², mean of both velocity components): train 0.0344–0.0348, val
+0.0339–0.0346, test 0.0436–0.0467 — an RMS velocity error of about 0.21 m/s per
+axis on the test buildings. Training is deterministic on CPU: the commands give
 the same ``weights.pt`` bytes for the same ``--threads`` and ``--workers`` (add
 ``--overwrite`` to retrain in place; the packaged members were written to a
 scratch folder, which their ``ensemble.json`` names, and copied here).
