@@ -85,14 +85,18 @@ twins, walking 0.82 of the real distance (was 0.78) and 0.95 of the twins'.
 
 Walks v7 turned the trunk's sideways lean the way it leans, toward the stance leg
 (the held phone leaned it the other way); retrained on them, the ensemble reads
-2.99 m on the real traces and 2.14 m on their twins, walking 0.82 of the real
-distance and 0.93 of the twins'. The gap left is the speed the network reads, not
-its direction: integrated second by second, it walks 0.88 of the real traces'
-length between their marks against 0.97 of the twins'. The real held phones surge
-far more than the twins' above the step rate (forward acceleration 0.69 and 0.48
-m/s² RMS at 1.3–2.6 and 2.6–4.5 Hz, the twins 0.23 and 0.05), locked to their
-vertical acceleration, which no part of the simulated arm makes yet
-(``leaderboards/commentary.md``).
+2.99 m on the real traces, walking 0.82 of the real distance. The twins now walk
+each leg of their trace in its time (the surveyors take their short legs slowly and
+their long ones briskly, which a twin at the trace's mean speed did not): the
+ensemble reads 2.31 m on them and walks 0.91 of their distance. The gap left is the
+speed the network reads on the long legs, where real and twin walk alike (1.19 and
+1.15 m/s): integrated second by second it walks 0.86 of the real legs of 6–20 m and
+0.94 of the twins'. Not the held hand's surge, which the real phones have far more of
+above the step rate (0.69 and 0.48 m/s² RMS at 1.3–2.6 and 2.6–4.5 Hz, the twins
+0.23 and 0.05): taken out of the real windows, the surge that goes with their
+vertical acceleration changes the speed read by 1 %. Trained on 0.82–1.72 m/s
+instead, it read fast windows better but every usual pace worse, and was not kept
+(:class:`~indoorsim.dataset.config.WalkerRanges`; ``leaderboards/commentary.md``).
 
 Per window
 ----------
