@@ -3,7 +3,7 @@
 Reads an Indoor Location Competition 2.0 floor (``geojson_map.json`` and its
 ``floor_info.json``), builds the scenario with
 :func:`~indoorsim.scenario.imports.import_ilc_floor`, adds one route per trace
-in ``--traces`` (their waypoints at their speed,
+in ``--traces`` (their waypoints, each leg in the surveyor's time,
 :func:`~indoorsim.scenario.imports.add_trace_routes`), writes the YAML and
 prints what was built, which traces were left out and why, and the time taken.
 """
@@ -32,8 +32,8 @@ def add_import_plan(subparsers: Subparsers) -> None:
         "in the waypoint frame of its floor_info.json) into a scenario: walls from the floor "
         "outline and the shop polygons, a doorway on each shop's longest corridor frontage, "
         "and lights, WiFi access points and a steel frame placed by the generator's mall "
-        "rules (seeded). With --traces, each trace's waypoints become a route walked at the "
-        "trace's speed; traces whose path cannot be walked in the scenario are listed with "
+        "rules (seeded). With --traces, each trace's waypoints become a route, each leg walked "
+        "in the trace's time; traces whose path cannot be walked in the scenario are listed with "
         "the reason.",
     )
     parser.add_argument("geojson", type=Path, metavar="GEOJSON", help="geojson_map.json")
