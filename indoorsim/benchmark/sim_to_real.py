@@ -75,6 +75,7 @@ from indoorsim.scenario.imports import (
 )
 from indoorsim.scenario.load import load_site
 from indoorsim.simulate import simulate
+from indoorsim.walker.path import first_pass
 from indoorsim.world.site import Site
 
 __all__ = [
@@ -341,12 +342,8 @@ def passing_times(truth: pd.DataFrame, waypoints: NDArray[np.float64]) -> NDArra
     out = np.empty(len(waypoints), dtype=np.int64)
     start = 0
     for i, p in enumerate(np.asarray(waypoints, dtype=float)):
-        d = np.linalg.norm(body[start:] - p, axis=1)
         # The first approach within 0.5 m of the closest one, not a later pass by it.
-        near = np.flatnonzero(d <= d.min() + 0.5)
-        gaps = np.flatnonzero(np.diff(near) > 1)
-        end = near[gaps[0]] + 1 if len(gaps) else near[-1] + 1
-        out[i] = start + near[0] + int(np.argmin(d[near[0] : end]))
+        out[i] = start + first_pass(np.linalg.norm(body[start:] - p, axis=1), 0.5)
         start = int(out[i])
     return out
 

@@ -53,7 +53,7 @@ from scipy.ndimage import gaussian_filter1d
 from scipy.signal import lfilter
 
 from indoorsim.walker.motion import impulse_displacement, intra_step_motion
-from indoorsim.walker.path import SmoothPath, cumsum0, hermite_spline
+from indoorsim.walker.path import SmoothPath, cumsum0, first_pass, hermite_spline
 from indoorsim.walker.physics import steer
 from indoorsim.walker.route import Route
 
@@ -576,11 +576,10 @@ def _speed_fluctuation(
 
 def _leg_ends(path: SmoothPath, points: NDArray[np.float64]) -> NDArray[np.float64]:
     """(L,) distance along the walked path of each route point: 0, where the path first
-    comes closest to each inner point, searched in order from the previous one (the
-    first approach within :data:`_PASS_SLACK_M` of the closest within a leg and a half,
-    so that a route coming back past a point is not taken for its first pass), the
-    length. An end within :data:`_PASS_SLACK_M` of a turn on the spot is put at it: the
-    turn starts the leg after it."""
+    comes closest to each inner point, searched in order from the previous one within a
+    leg and a half (:func:`~.path.first_pass`, so that a route coming back past a point
+    is not taken for its first pass), the length. An end within :data:`_PASS_SLACK_M`
+    of a turn on the spot is put at it: the turn starts the leg after it."""
     ends = np.empty(len(points))
     ends[0], ends[-1] = 0.0, path.length
     legs = np.linalg.norm(np.diff(points, axis=0), axis=1)
@@ -590,10 +589,7 @@ def _leg_ends(path: SmoothPath, points: NDArray[np.float64]) -> NDArray[np.float
         hi = min(path.length, lo + 1.5 * legs[i - 1] + 2.0)
         along = np.linspace(lo, hi, max(2, math.ceil((hi - lo) / _PASS_DS_M) + 1))
         gap = np.linalg.norm(path.position(along) - points[i], axis=1)
-        near = np.flatnonzero(gap <= gap.min() + _PASS_SLACK_M)
-        breaks = np.flatnonzero(np.diff(near) > 1)
-        last = near[breaks[0]] + 1 if len(breaks) else near[-1] + 1
-        ends[i] = along[near[0] + int(np.argmin(gap[near[0] : last]))]
+        ends[i] = along[first_pass(gap, _PASS_SLACK_M)]
         if len(pivots):
             k = int(np.argmin(np.abs(pivots - ends[i])))
             if abs(pivots[k] - ends[i]) <= _PASS_SLACK_M and pivots[k] >= lo:

@@ -15,6 +15,15 @@ from scipy.interpolate import CubicSpline
 __all__ = ["HIP_FLEXION", "HIP_ROTATION", "PELVIC_LIST"]
 
 
+def _unit_periodic(p: np.ndarray, deg: np.ndarray) -> CubicSpline:
+    """The periodic cubic spline through knots ``deg`` at phases ``p``, shifted and scaled
+    so that the curve (sampled on 1001 points) spans exactly −1 to +1."""
+    grid = np.linspace(0.0, 1.0, 1001)
+    raw = CubicSpline(p, deg, bc_type="periodic")(grid)
+    mid, half = 0.5 * (raw.max() + raw.min()), 0.5 * np.ptp(raw)
+    return CubicSpline(p, (deg - mid) / half, bc_type="periodic")
+
+
 def _hip_flexion() -> CubicSpline:
     """The hip's sagittal angle over a gait cycle from heel strike, scaled to ±1.
 
@@ -25,10 +34,7 @@ def _hip_flexion() -> CubicSpline:
     """
     p = np.array([0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.55, 0.62, 0.7, 0.8, 0.88, 0.95, 1.0])
     deg = np.array([25.0, 23.0, 15.0, 7.0, 0.0, -8.0, -10.0, -4.0, 8.0, 22.0, 28.0, 27.0, 25.0])
-    grid = np.linspace(0.0, 1.0, 1001)
-    raw = CubicSpline(p, deg, bc_type="periodic")(grid)
-    mid, half = 0.5 * (raw.max() + raw.min()), 0.5 * np.ptp(raw)
-    return CubicSpline(p, (deg - mid) / half, bc_type="periodic")
+    return _unit_periodic(p, deg)
 
 
 HIP_FLEXION = _hip_flexion()
@@ -68,10 +74,7 @@ def _hip_rotation() -> CubicSpline:
     """
     p = np.array([0.0, 0.06, 0.13, 0.25, 0.4, 0.52, 0.62, 0.7, 0.8, 0.9, 1.0])
     deg = np.array([0.3, 0.8, 1.0, 0.6, -0.1, -0.7, -1.0, -0.6, 0.1, 0.2, 0.3])
-    grid = np.linspace(0.0, 1.0, 1001)
-    raw = CubicSpline(p, deg, bc_type="periodic")(grid)
-    mid, half = 0.5 * (raw.max() + raw.min()), 0.5 * np.ptp(raw)
-    return CubicSpline(p, (deg - mid) / half, bc_type="periodic")
+    return _unit_periodic(p, deg)
 
 
 HIP_ROTATION = _hip_rotation()

@@ -44,7 +44,7 @@ from scipy.ndimage import gaussian_filter1d
 if TYPE_CHECKING:
     from indoorsim.world.plan import FloorPlan
 
-__all__ = ["SmoothPath", "cumsum0", "hermite_spline"]
+__all__ = ["SmoothPath", "cumsum0", "first_pass", "hermite_spline"]
 
 # Corner curves are sampled this often along their length (m).
 _CURVE_DS_M = 0.005
@@ -613,3 +613,13 @@ def cumsum0(x: NDArray[np.float64]) -> NDArray[np.float64]:
     out[0] = 0.0
     np.cumsum(x, out=out[1:])
     return out
+
+
+def first_pass(gap: NDArray[np.float64], slack: float) -> int:
+    """Index of the first pass by a point along a track, given the track's distance
+    ``gap`` to it at each sample: the closest sample of the first run of samples within
+    ``slack`` of the closest of all — not a later pass that comes a little closer."""
+    near = np.flatnonzero(gap <= gap.min() + slack)
+    breaks = np.flatnonzero(np.diff(near) > 1)
+    end = near[breaks[0]] + 1 if len(breaks) else near[-1] + 1
+    return int(near[0] + np.argmin(gap[near[0] : end]))
