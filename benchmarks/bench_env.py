@@ -1,6 +1,6 @@
 """Environment speed: steps per second of the positioning env beside CartPole-v1.
 
-Environment: ``indoorsim/Han2023Corridor-v7`` (the Han2023 L-shaped corridor,
+Environment: ``indoorsim/Han2023Corridor-v8`` (the Han2023 L-shaped corridor,
 its ``trajectory`` route: a walk of about 75 s, so about 75 one-second windows
 of 50 IMU samples per episode), made with :func:`gymnasium.make` like
 ``CartPole-v1`` (so both carry Gymnasium's default wrappers). The agent is a
@@ -39,7 +39,7 @@ from threadpoolctl import threadpool_limits
 
 import indoorsim.envs
 
-ENV_ID = "indoorsim/Han2023Corridor-v7"
+ENV_ID = "indoorsim/Han2023Corridor-v8"
 REFERENCE_ID = "CartPole-v1"
 N_VECTOR = 8
 TARGET_RATIO = 0.25

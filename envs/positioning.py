@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v7`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v8`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -233,11 +233,16 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       roll always said, where the held and calling phones leaned it toward the swing
       leg; the held hand is held sideways more softly): a seed gives other
       observations and errors. Spaces, rewards and arguments are unchanged.
+    - v8: the walks changed (the held arm turns about the shoulder under each vertical
+      jolt, so the hand surges with it; the reading pose's eyes are those of a head
+      bent over the phone, so the hand rests lower and further ahead; walkers' default
+      loading peak is the one the ILC surveyors fit): a seed gives other observations
+      and errors. Spaces, rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v7")
+        >>> env = gym.make("indoorsim/MinimalRoom-v8")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)

@@ -5,12 +5,13 @@ schedule of them (DESIGN §5):
 
 * ``handheld`` — in front of the chest, screen up and pitched toward the eyes
   (``pitch_deg``: 0 is flat, as in Han2023's experiments; ~30° is texting),
-  y-axis forward; the arm holds the hand in place against the trunk's surge and
-  sway (it bobs with it), the forearm swings at the elbow, the abducted upper
-  arm twists about its axis (moving the hand sideways with every jolt), and the
-  hand nods, turns and rocks the phone at the wrist, each joint a damped spring
-  driven by the trunk's motion; the hand turns slowly in yaw, with a faint
-  8–12 Hz tremor.
+  y-axis forward, where the eyes of a head bent over it read it; the arm holds
+  the hand in place against the trunk's surge and sway (it bobs with it), the
+  whole arm turns about the shoulder under each vertical jolt (the hand surging
+  with it), the forearm swings at the elbow, the abducted upper arm twists about
+  its axis (moving the hand sideways with every jolt), and the hand nods, turns
+  and rocks the phone at the wrist, each joint a damped spring driven by the
+  trunk's motion; the hand turns slowly in yaw, with a faint 8–12 Hz tremor.
 * ``calling`` — at the ear, screen toward the head, long axis tilted 30–60°
   from vertical, x-axis along ±forward; the head rides on the neck (a damped
   spring) and nods and rocks on it; it shades the light sensor.
@@ -47,6 +48,17 @@ from scipy.interpolate import CubicSpline
 
 from indoorsim.util import quaternion as quat_ops
 from indoorsim.walker import limbs
+from indoorsim.walker.anthropometry import (
+    ARM_LENGTH,
+    EAR_H,
+    HIP_H,
+    HIP_HALF_WIDTH,
+    NECK_H,
+    SHOULDER_H,
+    SHOULDER_HALF_WIDTH,
+    arm_about_shoulder,
+    bent_eyes,
+)
 from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory
 from indoorsim.walker.hip_curves import HIP_FLEXION, HIP_ROTATION, PELVIC_LIST
 from indoorsim.walker.modes import CarryMode, ModePose, register_mode
@@ -56,13 +68,6 @@ from indoorsim.walker.physics import PYMUNK_LOCK
 __all__ = ["Calling", "Dangling", "Handheld", "Pocketed"]
 
 _G = 9.81
-# Segment heights and lengths as fractions of body height (Drillis & Contini
-# anthropometric ratios, as commonly tabulated) [E].
-_SHOULDER_H, _EAR_H, _EYE_H, _HIP_H = 0.818, 0.90, 0.936, 0.50
-_EYE_FORWARD = 0.07  # the eyes ahead of the trunk's axis, the head bent over a phone [E]
-_ARM_LENGTH = 0.386  # shoulder to the middle of the grip
-_SHOULDER_HALF_WIDTH = 0.115
-_HIP_HALF_WIDTH = 0.055
 # Where the phone sits in a front trouser pocket: along the thigh from the hip
 # joint, and off the thigh's axis (m) [E].
 _POCKET_ALONG_M, _POCKET_FRONT_M = 0.15, 0.07
@@ -105,11 +110,17 @@ def _side(which: str) -> float:
 class Handheld(CarryMode):
     """Held in front of the chest, screen up, looked at (REALISM §6.1 texting row).
 
-    The arm holds the hand where the eyes read it: it follows the walk, and
+    The arm holds the hand where the eyes read it — the eyes of a head bent over the
+    phone, which puts the hand where an upper arm of anthropometric length reaches
+    (:func:`~.anthropometry.bent_eyes`): it follows the walk, and
     vertically the trunk's bounce and heel strikes, but fore-aft and sideways it
     passes the trunk's surge and sway within each step through a soft damped spring
     (:func:`~.limbs.transmitted`), and it turns with only part of the trunk's yaw
-    and sideways lean. Three joints then carry the phone, each held by muscle like a
+    and sideways lean. The whole arm, its weight ahead of the shoulder, turns about
+    the shoulder under the trunk's vertical jolts (upper arm, forearm and hand as
+    rigid segments of Winter's proportions, :func:`~.anthropometry.arm_about_shoulder`, on the
+    shoulder flexors' damped spring), which moves the hand up and forward together
+    and nods the phone with it. Three joints then carry the phone, each held by muscle like a
     damped spring (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, the
     upper arm, held a little out from the side, twists about its own axis, and the
     hand, with the phone, pivots at the wrist. The elbow's acceleration across the
@@ -237,6 +248,21 @@ class Handheld(CarryMode):
     sideways at the step rate twice as much as the real phones (0.55 against 0.25 m/s²)."""
     twist_damping: tuple[float, float] = (0.2, 0.4)
     """Range of that twist's damping ratio, drawn per use [E]."""
+    shoulder_hz: tuple[float, float] = (4.0, 6.0)
+    """Range of the natural frequency at which the shoulder's flexors hold the whole
+    arm, hand and phone against turning about the shoulder's lateral axis, drawn per
+    use: ≈ 0.2 kg·m² about the shoulder on a flexion stiffness of 130–300 N·m/rad [E].
+    The arm's weight lies ahead of the shoulder, so each vertical jolt of the trunk
+    turns it: the hand lags down and back as the shoulder is thrown up, and its
+    reaction moves it up and forward with the jolt — the ILC traces' held phones surge
+    in step with their vertical acceleration (coherence 0.8; +24°, −40°, −59° at the
+    step rate and its 2nd and 3rd harmonics), which no spring fore-aft gives."""
+    shoulder_damping: tuple[float, float] = (0.3, 0.5)
+    """Range of that hold's damping ratio, drawn per use [E]."""
+    head_flexion_deg: tuple[float, float] = (31.0, 39.0)
+    """Range of the neck's flexion over the phone, drawn per use (REALISM §6.1): the
+    head bends forward about the base of the neck, taking the eyes forward and down;
+    the eyes look the rest of the gaze's way down in their orbits."""
 
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, rate = body.height_m, body.rate_hz
@@ -244,11 +270,12 @@ class Handheld(CarryMode):
         # away, a little toward the holding hand.
         reach = rng.uniform(*self.reading_distance_m)
         gaze = math.radians(rng.uniform(*self.gaze_down_deg))
+        eye_forward, eye_up = bent_eyes(math.radians(rng.uniform(*self.head_flexion_deg)))
         rest = np.array(
             [
-                _EYE_FORWARD * h + reach * math.cos(gaze),
+                eye_forward * h + reach * math.cos(gaze),
                 0.02 * _side(self.hand),
-                (_EYE_H - PELVIS_HEIGHT_RATIO) * h - reach * math.sin(gaze),
+                (NECK_H + eye_up - PELVIS_HEIGHT_RATIO) * h - reach * math.sin(gaze),
             ]
         )
         rise, inward = math.radians(self.forearm_rise_deg), math.radians(self.forearm_inward_deg)
@@ -312,6 +339,27 @@ class Handheld(CarryMode):
             rate,
         )
         pos += limbs.apply(frame, twist[:, None] * across_arm)
+        # The whole arm turns about the shoulder under the trunk's vertical jolts: its
+        # weight ahead of the shoulder takes the moment of their inertial force. (Its
+        # fore-aft hold is the soft spring above; driving this one by the surge too
+        # would count that twice.)
+        shoulder = np.array(
+            [0.0, side * SHOULDER_HALF_WIDTH * h, (SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
+        )
+        lever_arm, inertia = arm_about_shoulder(shoulder, elbow_rest, rest, along, h)
+        shoulder_z = (
+            body.gait_offset[:, 2]
+            + (limbs.apply(trunk, shoulder) - limbs.apply(path, shoulder))[:, 2]
+        )
+        flex = limbs.oscillator(
+            lever_arm * limbs.acceleration(shoulder_z, body.t) / inertia,
+            rng.uniform(*self.shoulder_hz),
+            rng.uniform(*self.shoulder_damping),
+            rate,
+        )
+        # + about the body's y tips the hand down and back, along y × (hand − shoulder).
+        reach_xz = rest - shoulder
+        pos += limbs.apply(frame, flex[:, None] * np.array([reach_xz[2], 0.0, -reach_xz[0]]))
         # The hand's acceleration on its offset from the wrist: angular drive a·d/(d² + ρ²).
         hand_acc = limbs.acceleration(pos, body.t)
         hand_horiz = limbs.to_body(hand_acc, yaw)
@@ -361,7 +409,7 @@ class Handheld(CarryMode):
             limbs.from_rotvec(twist[:, None] * upper_arm),
             limbs.lean_sideways(coupling * body.roll),
             # The thorax's forward lean within each step: the arm passes it on.
-            limbs.about("y", body.pitch),
+            limbs.about("y", body.pitch + flex),
             limbs.body_frame(misalign + wander + turn),
             limbs.about("z", -np.pi / 2),
             limbs.about("x", math.radians(self.pitch_deg) + swing + nod + tilt),
@@ -416,7 +464,7 @@ class Calling(CarryMode):
         yaw = body.heading + self.trunk_coupling * (body.yaw - body.heading)
         frame = limbs.body_frame(yaw)
         # The phone's centre: beside the head, a little ahead of and below the ear.
-        offset = np.array([0.05, 0.09 * side, (_EAR_H - 0.02 - PELVIS_HEIGHT_RATIO) * h])
+        offset = np.array([0.05, 0.09 * side, (EAR_H - 0.02 - PELVIS_HEIGHT_RATIO) * h])
         # Where the trunk carries the head: the neck's base leans with the trunk.
         trunk = limbs.compose(frame, limbs.lean_sideways(body.roll))
         carried = body.pos + limbs.apply(trunk, offset)
@@ -538,10 +586,10 @@ class Dangling(CarryMode):
 
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, side = body.height_m, _side(self.hand)
-        length = _ARM_LENGTH * h
+        length = ARM_LENGTH * h
         frame = limbs.body_frame(body.yaw)
         shoulder = body.pos + limbs.apply(
-            frame, [0.0, _SHOULDER_HALF_WIDTH * h * side, (_SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
+            frame, [0.0, SHOULDER_HALF_WIDTH * h * side, (SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
         )
         swing = math.radians(self.swing_deg if self.swing_deg is not None else rng.uniform(15, 25))
         with PYMUNK_LOCK:  # the pendulum's pymunk space lives and dies inside
@@ -826,7 +874,7 @@ class Pocketed(CarryMode):
         # which brings that side forward at its heel strike: internal is toward the
         # midline, −z on the left leg.
         twist = -env * side * rotate_amp * HIP_ROTATION(np.mod(own - delay, 1.0))
-        hip = np.array([0.0, _HIP_HALF_WIDTH * h * side, (_HIP_H - PELVIS_HEIGHT_RATIO) * h])
+        hip = np.array([0.0, HIP_HALF_WIDTH * h * side, (HIP_H - PELVIS_HEIGHT_RATIO) * h])
         same_side = body.steps.foot.to_numpy() == ("R" if side < 0 else "L")
         t_hs = body.steps.t.to_numpy()[same_side]
         pace = np.interp(t_hs, body.t, body.speed) / self.impact_speed_mps

@@ -232,12 +232,14 @@ class WalkerParams:
     heel_strike_mps2: tuple[float, float] = (1.5, 4.0)
     """Range of the vertical heel-strike transient's peak at cruising speed; on
     top of the bounce this keeps heel-strike peaks at 1.3–2 g in total."""
-    loading_width: tuple[float, float] = (0.12, 0.17)
+    loading_width: tuple[float, float] = (0.16, 0.21)
     """Range of the width (σ, in steps) of the vertical acceleration's peak in
-    double support, drawn per walk: 0.08–0.14 of a step puts 1.3–1.8 g peaks
-    at the trunk for a 4–5 cm bounce and 5–25 % of its vertical acceleration's
-    power in the second harmonic of the step rate, as trunk accelerometry shows
-    [E]; a wide peak (≥ 0.3) is the sinusoidal compass-gait bounce."""
+    double support, drawn per walk: what ``indoorsim calibrate`` fits through the
+    held phone to the 14 ILC surveyors whose vigour is tabled
+    (:mod:`indoorsim.walker.real_walkers`: 0.164–0.209). Narrower peaks (0.08–0.14 of
+    a step put 1.3–1.8 g at the trunk for a 4–5 cm bounce [E]) give a held phone more
+    power at twice the step rate than any real one shows; a wide peak (≥ 0.3) is the
+    sinusoidal compass-gait bounce."""
     loading_asymmetry: tuple[float, float] = (0.05, 0.2)
     """Range of the relative difference in bounce between left and right steps,
     drawn per walk (either leg the stronger): gait asymmetry indices of healthy

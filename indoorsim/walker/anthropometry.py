@@ -1,0 +1,85 @@
+"""The body's proportions the carrying modes hang the phone from.
+
+Heights and lengths are fractions of body height (Drillis & Contini's anthropometric
+ratios, as commonly tabulated) [E]; the arm's segments' masses are fractions of body
+mass, their centres of mass and radii of gyration fractions of the segment's length
+(Winter, *Biomechanics and Motor Control of Human Movement*, table 4.1).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "ARM_LENGTH",
+    "EAR_H",
+    "EYE_FROM_NECK",
+    "EYE_H",
+    "HIP_H",
+    "HIP_HALF_WIDTH",
+    "NECK_H",
+    "SHOULDER_H",
+    "SHOULDER_HALF_WIDTH",
+    "arm_about_shoulder",
+    "bent_eyes",
+]
+
+SHOULDER_H, EAR_H, EYE_H, HIP_H = 0.818, 0.90, 0.936, 0.50
+NECK_H = 0.83
+"""The base of the neck (C7), about which the head bends over a phone [E]."""
+EYE_FROM_NECK = (0.05, EYE_H - NECK_H)
+"""The eyes from the base of the neck, upright: ahead of the trunk's axis and above [E]."""
+ARM_LENGTH = 0.386
+"""Shoulder to the middle of the grip."""
+SHOULDER_HALF_WIDTH = 0.115
+HIP_HALF_WIDTH = 0.055
+
+UPPER_ARM_MASS, UPPER_ARM_COM, UPPER_ARM_GYRATION = 0.028, 0.436, 0.322
+FOREARM_MASS, FOREARM_COM, FOREARM_GYRATION, FOREARM = 0.016, 0.430, 0.303, 0.146
+HAND_MASS, HAND_GYRATION, HAND = 0.006, 0.297, 0.108
+PHONE_MASS_FRACTION = 0.0026
+"""A phone of ≈ 0.18 kg on a 70 kg body."""
+
+
+def bent_eyes(flexion: float) -> tuple[float, float]:
+    """The eyes' place ahead of the trunk's axis and above the base of the neck, as
+    fractions of body height, with the head bent forward by ``flexion`` rad about it."""
+    c, s = math.cos(flexion), math.sin(flexion)
+    return (
+        EYE_FROM_NECK[0] * c + EYE_FROM_NECK[1] * s,
+        EYE_FROM_NECK[1] * c - EYE_FROM_NECK[0] * s,
+    )
+
+
+def arm_about_shoulder(
+    shoulder: NDArray[np.float64],
+    elbow: NDArray[np.float64],
+    hand: NDArray[np.float64],
+    along: NDArray[np.float64],
+    height_m: float,
+) -> tuple[float, float]:
+    """The held arm's first moment and moment of inertia about the shoulder's lateral
+    axis, per kilogram of body mass (their ratio is what matters): the upper arm from
+    ``shoulder`` to ``elbow``, the forearm from ``elbow`` along ``along`` and the hand
+    with the phone at ``hand`` as rigid segments, in the body's sagittal plane.
+
+    Returns (Σ m·x, Σ m·(x² + z² + ρ²)): x ahead of the shoulder, z above it."""
+    upper_len = float(np.linalg.norm(elbow - shoulder))
+    fore_len = FOREARM * height_m
+    segments = (
+        (
+            UPPER_ARM_MASS,
+            shoulder + UPPER_ARM_COM * (elbow - shoulder),
+            UPPER_ARM_GYRATION * upper_len,
+        ),
+        (FOREARM_MASS, elbow + FOREARM_COM * fore_len * along, FOREARM_GYRATION * fore_len),
+        (HAND_MASS + PHONE_MASS_FRACTION, hand, HAND_GYRATION * HAND * height_m),
+    )
+    first = sum(m * (c - shoulder)[0] for m, c, _ in segments)
+    second = sum(
+        m * ((c - shoulder)[0] ** 2 + (c - shoulder)[2] ** 2 + rho**2) for m, c, rho in segments
+    )
+    return float(first), float(second)
