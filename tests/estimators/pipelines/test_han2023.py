@@ -139,7 +139,10 @@ def test_pdr_ends_near_the_truth_on_a_basement_walk(
     basement_train: list[indoorsim.Recording],
     wavelet: bool,
 ) -> None:
-    rec = simulate(basement, route="A_to_D", mode="handheld", device="ideal", seed=1)
+    # Held straight ahead: a grip's drawn misalignment (5° SD) turns the whole 43 m track
+    # by itself (3.7 m at its end), which a PDR taking the phone's heading cannot know.
+    straight = [(0.0, "handheld", {"misalignment_deg": 0.0})]
+    rec = simulate(basement, route="A_to_D", mode=straight, device="ideal", seed=1)
     pdr = Han2023Pdr(wavelet=wavelet)
     pdr.fit(basement_context, basement_train)
     result = run_episode(pdr, rec, basement_context, start_info(rec))
