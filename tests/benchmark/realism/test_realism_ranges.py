@@ -58,7 +58,7 @@ INSIDE = {
         # ILC surveyors (3.7 median) alone.
         "share_stride",
         "gyro_rms_1",
-        # heading_jitter: 1.71-1.77° on three sites (real from 1.8°) since the arm turns
+        # heading_jitter: 1.71-1.74° on three sites (real from 1.8°) since the arm turns
         # about the shoulder (v8), 1.85 on the fourth.
         "gyro_drift",
         "surge_step",
