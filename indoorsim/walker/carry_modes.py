@@ -112,16 +112,16 @@ class Handheld(CarryMode):
 
     The arm holds the hand where the eyes read it — the eyes of a head bent over the
     phone, which puts the hand where an upper arm of anthropometric length reaches
-    (:func:`~.anthropometry.bent_eyes`): it follows the walk, and
-    vertically the trunk's bounce and heel strikes, but fore-aft and sideways it
-    passes the trunk's surge and sway within each step through a soft damped spring
-    (:func:`~.limbs.transmitted`), and it turns with only part of the trunk's yaw
-    and sideways lean. The whole arm, its weight ahead of the shoulder, turns about
-    the shoulder under the trunk's vertical jolts (upper arm, forearm and hand as
-    rigid segments of Winter's proportions, :func:`~.anthropometry.arm_about_shoulder`, on the
-    shoulder flexors' damped spring), which moves the hand up and forward together
-    and nods the phone with it. Three joints then carry the phone, each held by muscle like a
-    damped spring (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, the
+    (:func:`~.anthropometry.bent_eyes`): it follows the walk, and vertically the
+    trunk's bounce and heel strikes, but fore-aft and sideways it passes the trunk's
+    surge and sway within each step through a soft damped spring
+    (:func:`~.limbs.transmitted`), and it turns with only part of the trunk's yaw and
+    sideways lean. The whole arm, its weight ahead of the shoulder, turns about the
+    shoulder under the trunk's vertical jolts (upper arm, forearm and hand as rigid
+    segments of Winter's proportions, :func:`~.anthropometry.arm_about_shoulder`, on
+    the shoulder flexors' damped spring), which moves the hand up and forward together
+    and nods the phone with it. Three joints then carry the phone, each held by muscle
+    like a damped spring (:func:`~.limbs.oscillator`): the forearm pivots at the elbow, the
     upper arm, held a little out from the side, twists about its own axis, and the
     hand, with the phone, pivots at the wrist. The elbow's acceleration across the
     forearm swings the forearm (stiff, 5.5–7.5 Hz: the phone's acceleration is the
@@ -251,12 +251,14 @@ class Handheld(CarryMode):
     shoulder_hz: tuple[float, float] = (4.0, 6.0)
     """Range of the natural frequency at which the shoulder's flexors hold the whole
     arm, hand and phone against turning about the shoulder's lateral axis, drawn per
-    use: ≈ 0.2 kg·m² about the shoulder on a flexion stiffness of 130–300 N·m/rad [E].
-    The arm's weight lies ahead of the shoulder, so each vertical jolt of the trunk
-    turns it: the hand lags down and back as the shoulder is thrown up, and its
-    reaction moves it up and forward with the jolt — the ILC traces' held phones surge
-    in step with their vertical acceleration (coherence 0.8; +24°, −40°, −59° at the
-    step rate and its 2nd and 3rd harmonics), which no spring fore-aft gives."""
+    use: ≈ 0.3 kg·m² about the shoulder (a 70 kg walker's) on a flexion stiffness of
+    180–410 N·m/rad [E]. The arm's weight lies ahead of the shoulder, so each vertical
+    jolt of the trunk turns it: the hand lags down and back as the shoulder is thrown
+    up, and its reaction moves it up and forward with the jolt. The 16 ILC traces' held
+    phones surge in step with their vertical acceleration (coherence 0.6–0.85; per m/s²
+    of it 0.16, 0.20, 0.22 at +24°, −35°, −63° at the step rate and its 2nd and 3rd
+    harmonics, medians), which no spring fore and aft gives; their twins 0.17, 0.16,
+    0.26 at −15°, −44°, −77° (held stiff at the shoulder: 0.06 at +163° at the 2nd)."""
     shoulder_damping: tuple[float, float] = (0.3, 0.5)
     """Range of that hold's damping ratio, drawn per use [E]."""
     head_flexion_deg: tuple[float, float] = (31.0, 39.0)
