@@ -23,17 +23,21 @@ __all__ = [
     "NECK_H",
     "SHOULDER_H",
     "SHOULDER_HALF_WIDTH",
+    "UPPER_ARM",
     "arm_about_shoulder",
     "bent_eyes",
 ]
 
 SHOULDER_H, EAR_H, EYE_H, HIP_H = 0.818, 0.90, 0.936, 0.50
 NECK_H = 0.83
-"""The base of the neck (C7), about which the head bends over a phone [E]."""
+"""Height of the base of the neck (C7), about which the head bends over a phone, taken
+on the trunk's axis [E]."""
 EYE_FROM_NECK = (0.05, EYE_H - NECK_H)
 """The eyes from the base of the neck, upright: ahead of the trunk's axis and above [E]."""
 ARM_LENGTH = 0.386
 """Shoulder to the middle of the grip."""
+UPPER_ARM = 0.186
+"""Shoulder to elbow."""
 SHOULDER_HALF_WIDTH = 0.115
 HIP_HALF_WIDTH = 0.055
 

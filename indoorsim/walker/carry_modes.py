@@ -56,6 +56,7 @@ from indoorsim.walker.anthropometry import (
     NECK_H,
     SHOULDER_H,
     SHOULDER_HALF_WIDTH,
+    UPPER_ARM,
     arm_about_shoulder,
     bent_eyes,
 )
@@ -111,8 +112,10 @@ class Handheld(CarryMode):
     """Held in front of the chest, screen up, looked at (REALISM §6.1 texting row).
 
     The arm holds the hand where the eyes read it — the eyes of a head bent over the
-    phone, which puts the hand where an upper arm of anthropometric length reaches
-    (:func:`~.anthropometry.bent_eyes`): it follows the walk, and vertically the
+    phone (:func:`~.anthropometry.bent_eyes`), which for a 1.75 m walker puts the hand
+    where an upper arm of anthropometric length reaches (the reading distance and the
+    forearm are drawn in metres, so a short walker's implied upper arm is longer and a
+    tall one's shorter): it follows the walk, and vertically the
     trunk's bounce and heel strikes, but fore-aft and sideways it passes the trunk's
     surge and sway within each step through a soft damped spring
     (:func:`~.limbs.transmitted`), and it turns with only part of the trunk's yaw and
@@ -304,16 +307,18 @@ class Handheld(CarryMode):
             body.gait_offset[:, 2]
             + (limbs.apply(trunk, elbow_rest) - limbs.apply(path, elbow_rest))[:, 2]
         )
-        fwd, left = limbs.to_body(shake[:, :2], body.heading).T
+        ahead = (np.cos(body.heading), np.sin(body.heading))
+        fwd, left = limbs.to_body(shake[:, :2], ahead).T
         arm_damping = rng.uniform(*self.arm_damping)
         fwd = limbs.transmitted(fwd, rng.uniform(*self.arm_forward_hz), arm_damping, rate)
         left = limbs.transmitted(left, rng.uniform(*self.arm_lateral_hz), arm_damping, rate)
-        c, s = np.cos(body.heading), np.sin(body.heading)
+        c, s = ahead
         held = on_path + np.column_stack([fwd * c - left * s, fwd * s + left * c, shake[:, 2]])
         # The elbow, behind the held hand along the forearm.
         elbow = held - limbs.apply(frame, self.forearm_m * along)
         acc = limbs.acceleration(elbow, body.t)
-        horiz = limbs.to_body(acc, yaw)
+        facing = (np.cos(yaw), np.sin(yaw))
+        horiz = limbs.to_body(acc, facing)
         up_across = horiz[:, 0] * across[0] + horiz[:, 1] * across[1] + acc[:, 2] * across[2]
         swing = limbs.oscillator(
             -up_across / self.forearm_m,
@@ -344,7 +349,9 @@ class Handheld(CarryMode):
         # The whole arm turns about the shoulder under the trunk's vertical jolts: its
         # weight ahead of the shoulder takes the moment of their inertial force. (Its
         # fore-aft hold is the soft spring above; driving this one by the surge too
-        # would count that twice.)
+        # would count that twice. The thorax's own pitch, which the turn rides on, is
+        # not in the drive either: its angular acceleration, ≈ 8 rad/s² at the step
+        # rate, is of the drive's size, a coupling left out.)
         shoulder = np.array(
             [0.0, side * SHOULDER_HALF_WIDTH * h, (SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
         )
@@ -364,7 +371,7 @@ class Handheld(CarryMode):
         pos += limbs.apply(frame, flex[:, None] * np.array([reach_xz[2], 0.0, -reach_xz[0]]))
         # The hand's acceleration on its offset from the wrist: angular drive a·d/(d² + ρ²).
         hand_acc = limbs.acceleration(pos, body.t)
-        hand_horiz = limbs.to_body(hand_acc, yaw)
+        hand_horiz = limbs.to_body(hand_acc, facing)
         d, rho = self.wrist_offset_m, self.wrist_gyration_m
         gain = d / (d**2 + rho**2)
         damping = rng.uniform(*self.wrist_damping)
@@ -581,7 +588,6 @@ class Dangling(CarryMode):
     wrist_damping: tuple[float, float] = (0.2, 0.4)
     """Range of the wrist's damping ratio, drawn per use for each plane [E]."""
 
-    _UPPER_ARM: ClassVar[float] = 0.186  # shoulder to elbow, of body height (Drillis & Contini)
     _HAND_COM: ClassVar[float] = 0.05  # wrist to the centre of hand and phone, of body height
     _ROD_KG: ClassVar[float] = 3.0
     _HAND_KG: ClassVar[float] = 0.6
@@ -598,9 +604,9 @@ class Dangling(CarryMode):
             theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)
         # The forearm about the elbow: the upper arm's angular acceleration drives it,
         # by (1 + upper / forearm) for a forearm whose mass sits at the grip.
-        upper = self._UPPER_ARM * h
+        upper = UPPER_ARM * h
         forearm = length - upper
-        theta_acc = np.gradient(np.gradient(theta, body.t), body.t)
+        theta_acc = limbs.acceleration(theta, body.t)
         flex = limbs.oscillator(
             -(1.0 + upper / forearm) * theta_acc,
             rng.uniform(*self.elbow_natural_hz),
@@ -639,7 +645,7 @@ class Dangling(CarryMode):
             # One plane of the wrist: a damped spring under the arm's angular
             # acceleration in that plane and the wrist's acceleration across the hand.
             drive = (
-                -np.gradient(np.gradient(arm_angle, body.t), body.t)
+                -limbs.acceleration(arm_angle, body.t)
                 - np.einsum("ij,ij->i", wrist_acc, across) / grip_lever
             )
             natural = rng.uniform(*self.wrist_natural_hz)
@@ -683,7 +689,7 @@ class Dangling(CarryMode):
         # left heel strike) through the inverse of I·θ̈ + c·θ̇ + k·θ = τ.
         t = body.t
         stride = body.step_phase / 2.0
-        omega = 2.0 * np.pi * np.gradient(stride, t)
+        omega = 2.0 * np.pi * limbs.derivative(stride, t)
         cyc = 2.0 * np.pi * (body.stride_phase + (0.0 if side < 0 else 0.5))
         torque = amplitude * (
             (stiffness - inertia * omega**2) * np.cos(cyc) - damping * omega * np.sin(cyc)
@@ -976,7 +982,7 @@ class Pocketed(CarryMode):
         omega = np.empty_like(f)
         omega[1:] = quat_ops.relative_rotvec(rot[:-1], rot[1:]) * body.rate_hz
         omega[0] = omega[1]
-        alpha = np.gradient(omega, body.t, axis=0)
+        alpha = limbs.derivative(omega, body.t)
         # Per unit mass: the plate's inertia about its centre, and about the hold.
         length2, width2 = _PHONE_LENGTH_M**2, _PHONE_WIDTH_M**2
         centre = np.array([length2, width2, length2 + width2]) / 12.0

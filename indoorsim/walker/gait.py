@@ -236,7 +236,7 @@ class WalkerParams:
     """Range of the width (σ, in steps) of the vertical acceleration's peak in
     double support, drawn per walk: what ``indoorsim calibrate`` fits through the
     held phone to the 14 ILC surveyors whose vigour is tabled
-    (:mod:`indoorsim.walker.real_walkers`: 0.164–0.209). Narrower peaks (0.08–0.14 of
+    (:mod:`indoorsim.walker.real_walkers`: 0.164–0.208). Narrower peaks (0.08–0.14 of
     a step put 1.3–1.8 g at the trunk for a 4–5 cm bounce [E]) give a held phone more
     power at twice the step rate than any real one shows; a wide peak (≥ 0.3) is the
     sinusoidal compass-gait bounce."""

@@ -3,9 +3,9 @@
 Unit quaternion arrays (:data:`Quat`, scalar first) and their few operations
 the poses need (:func:`compose`, :func:`about`, :func:`apply`...), the scalar
 moves between scipy's order and ours in one compiled pass, and the signal
-pieces of the body's joints: finite-difference :func:`acceleration`, the
-damped-spring joint :func:`oscillator`, hand :func:`tremor`, slowly varying
-noise, and a fast Gaussian smoother.
+pieces of the body's joints: finite-difference :func:`derivative` and
+:func:`acceleration`, the damped-spring joint :func:`oscillator`, hand
+:func:`tremor`, slowly varying noise, and a fast Gaussian smoother.
 """
 
 from __future__ import annotations
@@ -132,9 +132,50 @@ def lowpass(x: NDArray[np.float64], cutoff_hz: float, rate_hz: float) -> NDArray
     return sosfilt(sos, x, axis=0, zi=init)[0]
 
 
+def derivative(x: NDArray[np.float64], t: NDArray[np.float64]) -> NDArray[np.float64]:
+    """First derivative of samples ``x`` (K,) or (K, ...) at times ``t`` (K,) along axis 0:
+    ``np.gradient(x, t, axis=0)`` to the bit (second-order central differences on the
+    uneven grid, one-sided at the ends), in one compiled pass instead of numpy's dozen
+    temporaries (a tenth of the time on a 10-minute walk)."""
+    x = np.asarray(x, dtype=float)
+    t = np.ascontiguousarray(t, dtype=float)
+    if len(x) < 2 or t.shape != (len(x),):
+        return np.gradient(x, t, axis=0)  # numpy's own errors
+    flat = np.ascontiguousarray(x.reshape(len(x), -1))
+    out = np.empty_like(flat)
+    dt = np.diff(t)
+    # numpy takes evenly spaced times as one step, with its simpler formula.
+    _gradient(flat, t, bool((dt == dt[0]).all()), out)
+    return out.reshape(x.shape)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _gradient(f, t, even, out):  # pragma: no cover - compiled
+    """out = np.gradient(f, t, axis=0) for (K, M) f, with numpy's coefficients and its
+    order of operations (so the same bits); ``even``: the times are evenly spaced."""
+    n = f.shape[0]
+    for j in range(f.shape[1]):
+        out[0, j] = (f[1, j] - f[0, j]) / (t[1] - t[0])
+        out[n - 1, j] = (f[n - 1, j] - f[n - 2, j]) / (t[n - 1] - t[n - 2])
+    if even:
+        step2 = 2.0 * (t[1] - t[0])
+        for i in range(1, n - 1):
+            for j in range(f.shape[1]):
+                out[i, j] = (f[i + 1, j] - f[i - 1, j]) / step2
+        return
+    for i in range(1, n - 1):
+        dx1 = t[i] - t[i - 1]
+        dx2 = t[i + 1] - t[i]
+        a = -(dx2) / (dx1 * (dx1 + dx2))
+        b = (dx2 - dx1) / (dx1 * dx2)
+        c = dx1 / (dx2 * (dx1 + dx2))
+        for j in range(f.shape[1]):
+            out[i, j] = a * f[i - 1, j] + b * f[i, j] + c * f[i + 1, j]
+
+
 def acceleration(pos: NDArray[np.float64], t: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Second derivative of sampled positions along axis 0."""
-    return np.gradient(np.gradient(pos, t, axis=0), t, axis=0)
+    """Second derivative of sampled positions along axis 0 (:func:`derivative` twice)."""
+    return derivative(derivative(pos, t), t)
 
 
 def oscillator(
@@ -177,9 +218,13 @@ def _spring(
     return lfilter(b, a, x, axis=0)
 
 
-def to_body(vec: NDArray[np.float64], heading: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Horizontal vectors in the walking frame: (forward, left)."""
-    c, s = np.cos(heading), np.sin(heading)
+def to_body(
+    vec: NDArray[np.float64],
+    heading: NDArray[np.float64] | tuple[NDArray[np.float64], NDArray[np.float64]],
+) -> NDArray[np.float64]:
+    """Horizontal vectors in the walking frame: (forward, left). ``heading`` is the
+    angles, or their (cos, sin) where a caller turns several vectors by the same ones."""
+    c, s = heading if isinstance(heading, tuple) else (np.cos(heading), np.sin(heading))
     return np.column_stack([c * vec[:, 0] + s * vec[:, 1], -s * vec[:, 0] + c * vec[:, 1]])
 
 

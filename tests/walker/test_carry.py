@@ -12,7 +12,7 @@ import indoorsim.walker.carry as carry_module
 from indoorsim.scenario import RouteSpec
 from indoorsim.walker import limbs
 from indoorsim.walker.carry import Handheld, PhoneTrajectory, carry
-from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
+from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory, WalkerParams, walk
 from indoorsim.walker.route import plan_route
 from indoorsim.world.plan import FloorPlan
 
@@ -428,7 +428,8 @@ def test_the_held_hand_rides_out_the_trunks_surge_and_sway(straight_body):
         hand = limbs.acceleration(phone.pos, phone.t)[keep]
         # The corridor runs along +x: forward is x, sideways y.
         # Fore-aft the hold passes a third of the pelvis's surge at the step rate, and the
-        # arm's turn about the shoulder under the bounce (see the next test) adds to it.
+        # arm's turn about the shoulder under the bounce (the test of the held hand's
+        # surge with its vertical jolts) adds to it.
         assert _amplitude(hand[:, 0], t, step_hz) < 0.6 * _amplitude(pelvis[:, 0], t, step_hz)
         assert _amplitude(hand[:, 1], t, step_hz / 2) < 0.5 * _amplitude(
             pelvis[:, 1], t, step_hz / 2
@@ -528,7 +529,7 @@ def test_the_held_hand_surges_in_step_with_its_vertical_jolts(straight_body):
     the shoulder, and the hand moves up and forward together. The 16 ILC traces'
     flat-held phones: forward acceleration per vertical at twice the step rate 0.20,
     −35° (medians; coherence 0.8); an arm held stiff at the shoulder surged the other
-    way (+126° to +158° on this walk)."""
+    way (+126° to +144° on this walk)."""
     body = straight_body
     keep = _steady(body)
     t = body.t[keep]
@@ -544,19 +545,21 @@ def test_the_held_hand_surges_in_step_with_its_vertical_jolts(straight_body):
             hand[:, 2], t, 2 * step_hz
         )
 
+    # Pooled over seeds: one arm's draws (4-6 Hz, damping 0.3-0.5) range its gain from
+    # 0.02 to 0.15 and its phase from -10 to -65 degrees.
+    gains = np.array([surge_per_vertical({}, seed) for seed in range(5)])
+    assert 0.04 < np.median(np.abs(gains)) < 0.4
+    assert abs(np.degrees(np.angle(np.mean(gains / np.abs(gains))))) < 50
     for seed in range(3):
-        gain = surge_per_vertical({}, seed)
-        assert 0.03 < abs(gain) < 0.4
-        assert abs(np.degrees(np.angle(gain))) < 60
         stiff = surge_per_vertical({"shoulder_hz": (80.0, 80.0)}, seed)
         assert abs(np.degrees(np.angle(stiff))) > 110
 
 
 def test_the_reading_pose_implies_an_upper_arm_of_anthropometric_length():
     """The hand rests where the bent-over eyes read it and the elbow a forearm behind
-    it: the upper arm between shoulder and elbow is then as long as Drillis & Contini's
-    0.186 of body height, over the drawn reading distances, gazes and neck flexions
-    (with the eyes of an upright head it came out 0.22 m for a 1.75 m walker)."""
+    it: for a 1.75 m walker the upper arm between shoulder and elbow is then as long as
+    Drillis & Contini's 0.186 of body height, over the drawn reading distances, gazes
+    and neck flexions (with the eyes of an upright head it came out 0.22 m)."""
     from indoorsim.walker import anthropometry as cm
 
     hand = Handheld()
@@ -565,7 +568,9 @@ def test_the_reading_pose_implies_an_upper_arm_of_anthropometric_length():
     along = np.array(
         [np.cos(rise) * np.cos(inward), -side * np.cos(rise) * np.sin(inward), np.sin(rise)]
     )
-    shoulder = np.array([0.0, side * cm.SHOULDER_HALF_WIDTH * h, (cm.SHOULDER_H - 0.53) * h])
+    shoulder = np.array(
+        [0.0, side * cm.SHOULDER_HALF_WIDTH * h, (cm.SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
+    )
     middle = (float(np.mean(hand.reading_distance_m)), 57.5, 35.0)
     for reach, gaze, flexion in [
         middle,
@@ -576,37 +581,54 @@ def test_the_reading_pose_implies_an_upper_arm_of_anthropometric_length():
             [
                 forward * h + reach * np.cos(np.radians(gaze)),
                 0.02 * side,
-                (cm.NECK_H + up - 0.53) * h - reach * np.sin(np.radians(gaze)),
+                (cm.NECK_H + up - PELVIS_HEIGHT_RATIO) * h - reach * np.sin(np.radians(gaze)),
             ]
         )
         upper_arm = np.linalg.norm(rest - hand.forearm_m * along - shoulder)
         # The drawn ranges' corners reach ±25 %: a long reach with a far-bent head.
-        assert upper_arm == pytest.approx(0.186 * h, rel=0.25)
+        assert upper_arm == pytest.approx(cm.UPPER_ARM * h, rel=0.25)
         if (reach, gaze, flexion) == middle:
-            assert upper_arm == pytest.approx(0.186 * h, rel=0.05)
+            assert upper_arm == pytest.approx(cm.UPPER_ARM * h, rel=0.05)
     # Upright, the eyes are where the standing body's ratios put them.
     assert cm.bent_eyes(0.0)[1] == pytest.approx(cm.EYE_H - cm.NECK_H)
 
 
 def test_the_arms_moments_about_the_shoulder_are_the_segments_sums():
-    """First and second moments of the held arm about the shoulder in closed form: a
-    straight horizontal arm's segments on one line."""
+    """First and second moments of the held arm about the shoulder in closed form: the
+    upper arm hanging straight down, the forearm and hand straight ahead from the elbow
+    (an L), and a sideways offset that a turn about the lateral axis does not feel."""
     from indoorsim.walker import anthropometry as cm
 
     h = 1.0
-    shoulder = np.zeros(3)
-    elbow = np.array([0.3, 0.0, 0.0])
+    shoulder = np.array([0.0, -0.2, 0.0])
+    elbow = np.array([0.0, -0.2, -0.3])
     along = np.array([1.0, 0.0, 0.0])
     hand = elbow + 0.25 * along
     first, second = cm.arm_about_shoulder(shoulder, elbow, hand, along, h)
+    fore = cm.FOREARM * h
+    # (mass, x ahead of the shoulder, z above it, radius of gyration)
     segments = [
-        (cm.UPPER_ARM_MASS, cm.UPPER_ARM_COM * 0.3, cm.UPPER_ARM_GYRATION * 0.3),
-        (
-            cm.FOREARM_MASS,
-            0.3 + cm.FOREARM_COM * cm.FOREARM * h,
-            cm.FOREARM_GYRATION * cm.FOREARM * h,
-        ),
-        (cm.HAND_MASS + cm.PHONE_MASS_FRACTION, 0.55, cm.HAND_GYRATION * cm.HAND * h),
+        (cm.UPPER_ARM_MASS, 0.0, -cm.UPPER_ARM_COM * 0.3, cm.UPPER_ARM_GYRATION * 0.3),
+        (cm.FOREARM_MASS, cm.FOREARM_COM * fore, -0.3, cm.FOREARM_GYRATION * fore),
+        (cm.HAND_MASS + cm.PHONE_MASS_FRACTION, 0.25, -0.3, cm.HAND_GYRATION * cm.HAND * h),
     ]
-    assert first == pytest.approx(sum(m * x for m, x, _ in segments))
-    assert second == pytest.approx(sum(m * (x**2 + r**2) for m, x, r in segments))
+    assert first == pytest.approx(sum(m * x for m, x, _, _ in segments))
+    assert second == pytest.approx(sum(m * (x**2 + z**2 + r**2) for m, x, z, r in segments))
+
+
+def test_compiled_derivative_is_numpys_gradient_to_the_bit():
+    """``limbs.derivative`` replaces np.gradient on the walks' hot path: the same bytes on
+    uneven and evenly spaced times (numpy's two formulas), in 1, 2 and 3 dimensions."""
+    rng = np.random.default_rng(1)
+    times = [
+        np.cumsum(rng.uniform(0.004, 0.006, 500)),
+        np.arange(500) / 200.0,  # not exactly even in binary
+        2.0 + np.arange(500) * 0.25,  # exactly even
+        np.array([0.0, 1.0]),
+    ]
+    for t in times:
+        for shape in [(len(t),), (len(t), 3), (len(t), 2, 2)]:
+            f = rng.standard_normal(shape)
+            assert limbs.derivative(f, t).tobytes() == np.gradient(f, t, axis=0).tobytes()
+            expected = np.gradient(np.gradient(f, t, axis=0), t, axis=0)
+            assert limbs.acceleration(f, t).tobytes() == expected.tobytes()

@@ -207,7 +207,8 @@ FIRST_STEP_LAG_S: dict[str, float] = {
     "pocketed": 0.42,
 }
 """How long after the walker sets off the peak–valley detector finds its first step, s,
-by carrying mode (medians over simulated walks that stood 3–8 s first, walks v7; a
+by carrying mode (medians over simulated walks that stood 3–8 s first, walks v7; on
+walks v8, eight walks a mode: 0.41, 0.39, 1.02 s, the pocket 0.27 or 0.96; a
 recording whose mode is not known takes the held phone's). The first heel strike
 comes 0.8 s after setting off; held at the chest or the ear, the weight shift onto the
 first stance leg before it, which leans the trunk, swings ‖a‖ enough to count

@@ -279,7 +279,8 @@ def test_a_walk_gives_back_its_walkers_vigour_through_its_carrying_mode(mode):
     assert cal.walker.bounce_fraction == pytest.approx(1.0, rel=0.2)
     assert cal.walker.loading_width[0] == pytest.approx(0.12, abs=0.02)
     if mode == "handheld":
-        assert cal.walker.heel_strike_mps2[0] == pytest.approx(5.5, rel=0.15)
+        # The arm's draws move the fit by −6 to +27 % (see above).
+        assert cal.walker.heel_strike_mps2[0] == pytest.approx(5.5, rel=0.3)
     m = cal.measured
     for key in FIGURES:
         assert m[f"{key}_fitted_walk"] == pytest.approx(m[key], rel=0.1)

@@ -73,7 +73,7 @@ INSIDE = {
         # m/s² at twice the step rate (median 0.21): the default walkers' loading peak
         # (0.16-0.21 of a step, as the ILC surveyors fit through the held arm since v8)
         # puts little in the second harmonic; their twins, each with its surveyor's
-        # fitted vigour, surge 0.25 (real 0.21), in phase with it as the real ones.
+        # fitted vigour, surge 0.15 (real 0.22), in phase with it as the real ones.
     },
     "calling": {
         "step_hz",
