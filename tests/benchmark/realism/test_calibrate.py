@@ -10,7 +10,9 @@ import pandas as pd
 import pytest
 
 from indoorsim.benchmark.realism.calibrate import (
+    FIRST_STEP_LAG_S,
     CalibrationError,
+    _first_step,
     calibrate,
     load_walker,
     stream_timing,
@@ -362,3 +364,29 @@ def test_the_vigour_fit_keeps_its_closest_pass_not_its_last(monkeypatch):
     monkeypatch.setattr(vigour, "_walk_powers", lambda walker, schedule, device: next(passes))
     best = vigour.fit_vigour(None, WalkerParams(), "handheld")
     assert best.reached == (3.05, 0.4, 0.8) and not best.misses()
+
+
+@pytest.mark.parametrize("mode", ["handheld", "calling", "dangling", "pocketed"])
+def test_the_first_step_lag_table_is_what_the_walks_give(mode):
+    """``FIRST_STEP_LAG_S`` (how long after setting off the step detector counts its
+    first step) is measured on the simulated walks: a change to them that moves it
+    fails here. Medians of six walks that stood 3–8 s; a pocket's first count is either
+    of two peaks (0.3 s or 1.0 s), so its table value lies between them."""
+    site = load_site("han2023_corridor")
+    lags = []
+    for seed in range(6):
+        stand = 3.0 + seed
+        rec = simulate(
+            site,
+            route="trajectory",
+            mode=mode,
+            device="mid_grade",
+            seed=seed,
+            walker=WalkerParams(stand_start_s=stand),
+        )
+        lags.append(_first_step(rec) - float(rec.accel.index[0]) - stand)
+    table = FIRST_STEP_LAG_S[mode]
+    if mode == "pocketed":
+        assert min(lags) - 0.05 < table < max(lags) + 0.05
+    else:
+        assert np.median(lags) == pytest.approx(table, abs=0.1)
