@@ -13,6 +13,8 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO
+
 __all__ = [
     "ARM_LENGTH",
     "EAR_H",
@@ -26,6 +28,7 @@ __all__ = [
     "UPPER_ARM",
     "arm_about_shoulder",
     "bent_eyes",
+    "shoulder_joint",
 ]
 
 SHOULDER_H, EAR_H, EYE_H, HIP_H = 0.818, 0.90, 0.936, 0.50
@@ -46,6 +49,14 @@ FOREARM_MASS, FOREARM_COM, FOREARM_GYRATION, FOREARM = 0.016, 0.430, 0.303, 0.14
 HAND_MASS, HAND_GYRATION, HAND = 0.006, 0.297, 0.108
 PHONE_MASS_FRACTION = 0.0026
 """A phone of ≈ 0.18 kg on a 70 kg body."""
+
+
+def shoulder_joint(height_m: float, side: float) -> NDArray[np.float64]:
+    """The shoulder joint on ``side`` (+1 left, −1 right) in the body frame, from the
+    pelvis, m."""
+    return np.array(
+        [0.0, side * SHOULDER_HALF_WIDTH * height_m, (SHOULDER_H - PELVIS_HEIGHT_RATIO) * height_m]
+    )
 
 
 def bent_eyes(flexion: float) -> tuple[float, float]:

@@ -54,11 +54,10 @@ from indoorsim.walker.anthropometry import (
     HIP_H,
     HIP_HALF_WIDTH,
     NECK_H,
-    SHOULDER_H,
-    SHOULDER_HALF_WIDTH,
     UPPER_ARM,
     arm_about_shoulder,
     bent_eyes,
+    shoulder_joint,
 )
 from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory
 from indoorsim.walker.hip_curves import HIP_FLEXION, HIP_ROTATION, PELVIC_LIST
@@ -269,25 +268,30 @@ class Handheld(CarryMode):
     head bends forward about the base of the neck, taking the eyes forward and down;
     the eyes look the rest of the gaze's way down in their orbits."""
 
+    def rest_place(self, h: float, reach_m: float, gaze: float, flexion: float) -> NDArray:
+        """The phone's rest place in the body frame, from the pelvis: where the eyes of a
+        head bent by ``flexion`` rad look down at it, ``gaze`` rad below the horizontal,
+        ``reach_m`` away, a little toward the holding hand (``h``: body height, m)."""
+        forward, up = bent_eyes(flexion)
+        height = (NECK_H + up - PELVIS_HEIGHT_RATIO) * h - reach_m * math.sin(gaze)
+        return np.array([forward * h + reach_m * math.cos(gaze), 0.02 * _side(self.hand), height])
+
+    def forearm_axes(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Unit vectors in the body frame along the forearm (elbow → hand) and across it
+        (the way its swing about the elbow moves the hand, up and back)."""
+        rise, inward = math.radians(self.forearm_rise_deg), math.radians(self.forearm_inward_deg)
+        level = np.array([math.cos(inward), -_side(self.hand) * math.sin(inward), 0.0])
+        along = math.cos(rise) * level + [0.0, 0.0, math.sin(rise)]
+        across = -math.sin(rise) * level + [0.0, 0.0, math.cos(rise)]
+        return along, across
+
     def pose(self, body: BodyTrajectory, rng: np.random.Generator) -> ModePose:
         h, rate = body.height_m, body.rate_hz
-        # The phone's rest place: where the eyes look down at it, a reading distance
-        # away, a little toward the holding hand.
         reach = rng.uniform(*self.reading_distance_m)
         gaze = math.radians(rng.uniform(*self.gaze_down_deg))
-        eye_forward, eye_up = bent_eyes(math.radians(rng.uniform(*self.head_flexion_deg)))
-        rest = np.array(
-            [
-                eye_forward * h + reach * math.cos(gaze),
-                0.02 * _side(self.hand),
-                (NECK_H + eye_up - PELVIS_HEIGHT_RATIO) * h - reach * math.sin(gaze),
-            ]
-        )
-        rise, inward = math.radians(self.forearm_rise_deg), math.radians(self.forearm_inward_deg)
+        rest = self.rest_place(h, reach, gaze, math.radians(rng.uniform(*self.head_flexion_deg)))
         side = _side(self.hand)
-        level = np.array([math.cos(inward), -side * math.sin(inward), 0.0])
-        along = math.cos(rise) * level + [0.0, 0.0, math.sin(rise)]  # elbow → hand
-        across = -math.sin(rise) * level + [0.0, 0.0, math.cos(rise)]  # the forearm's swing
+        along, across = self.forearm_axes()
         coupling = rng.uniform(*self.trunk_coupling)
         yaw = body.heading + coupling * (body.yaw - body.heading)
         frame = limbs.body_frame(yaw)
@@ -300,13 +304,16 @@ class Handheld(CarryMode):
         # trunk's sideways lean too.
         trunk = limbs.compose(frame, limbs.lean_sideways(body.roll))
         path = limbs.body_frame(body.heading)
+
+        def bob(point: NDArray[np.float64]) -> NDArray[np.float64]:
+            """How high a trunk point rides over its place on the path: bounce plus lean."""
+            lean = limbs.apply(trunk, point) - limbs.apply(path, point)
+            return body.gait_offset[:, 2] + lean[:, 2]
+
         on_path = body.pos - body.gait_offset + limbs.apply(path, rest)
         shake = body.pos + limbs.apply(trunk, rest) - on_path
         elbow_rest = rest - self.forearm_m * along
-        shake[:, 2] = (
-            body.gait_offset[:, 2]
-            + (limbs.apply(trunk, elbow_rest) - limbs.apply(path, elbow_rest))[:, 2]
-        )
+        shake[:, 2] = bob(elbow_rest)
         ahead = (np.cos(body.heading), np.sin(body.heading))
         fwd, left = limbs.to_body(shake[:, :2], ahead).T
         arm_damping = rng.uniform(*self.arm_damping)
@@ -352,16 +359,10 @@ class Handheld(CarryMode):
         # would count that twice. The thorax's own pitch, which the turn rides on, is
         # not in the drive either: its angular acceleration, ≈ 8 rad/s² at the step
         # rate, is of the drive's size, a coupling left out.)
-        shoulder = np.array(
-            [0.0, side * SHOULDER_HALF_WIDTH * h, (SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
-        )
+        shoulder = shoulder_joint(h, side)
         lever_arm, inertia = arm_about_shoulder(shoulder, elbow_rest, rest, along, h)
-        shoulder_z = (
-            body.gait_offset[:, 2]
-            + (limbs.apply(trunk, shoulder) - limbs.apply(path, shoulder))[:, 2]
-        )
         flex = limbs.oscillator(
-            lever_arm * limbs.acceleration(shoulder_z, body.t) / inertia,
+            lever_arm * limbs.acceleration(bob(shoulder), body.t) / inertia,
             rng.uniform(*self.shoulder_hz),
             rng.uniform(*self.shoulder_damping),
             rate,
@@ -596,9 +597,7 @@ class Dangling(CarryMode):
         h, side = body.height_m, _side(self.hand)
         length = ARM_LENGTH * h
         frame = limbs.body_frame(body.yaw)
-        shoulder = body.pos + limbs.apply(
-            frame, [0.0, SHOULDER_HALF_WIDTH * h * side, (SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
-        )
+        shoulder = body.pos + limbs.apply(frame, shoulder_joint(h, side))
         swing = math.radians(self.swing_deg if self.swing_deg is not None else rng.uniform(15, 25))
         with PYMUNK_LOCK:  # the pendulum's pymunk space lives and dies inside
             theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)

@@ -631,9 +631,10 @@ def _paced_legs(
     curve_cap = omega_lim / np.maximum(
         path.max_curvature(grid, 0.5 * float(step_length_m(v_cruise, params.height_m))), 1e-9
     )
-    rest = np.searchsorted(grid, [d.s for d in dwells]).clip(0, n)
+    at = [d.s for d in dwells]
+    rest = np.searchsorted(grid, at).clip(0, n)
     standing = np.bincount(
-        np.clip(np.searchsorted(ends, [d.s for d in dwells], side="right") - 1, 0, len(target) - 1),
+        np.clip(np.searchsorted(ends, at, side="right") - 1, 0, len(target) - 1),
         weights=[d.duration for d in dwells],
         minlength=len(target),
     )

@@ -12,7 +12,7 @@ import indoorsim.walker.carry as carry_module
 from indoorsim.scenario import RouteSpec
 from indoorsim.walker import limbs
 from indoorsim.walker.carry import Handheld, PhoneTrajectory, carry
-from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory, WalkerParams, walk
+from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
 from indoorsim.walker.route import plan_route
 from indoorsim.world.plan import FloorPlan
 
@@ -563,27 +563,15 @@ def test_the_reading_pose_implies_an_upper_arm_of_anthropometric_length():
     from indoorsim.walker import anthropometry as cm
 
     hand = Handheld()
-    h, side = 1.75, -1.0
-    rise, inward = np.radians(hand.forearm_rise_deg), np.radians(hand.forearm_inward_deg)
-    along = np.array(
-        [np.cos(rise) * np.cos(inward), -side * np.cos(rise) * np.sin(inward), np.sin(rise)]
-    )
-    shoulder = np.array(
-        [0.0, side * cm.SHOULDER_HALF_WIDTH * h, (cm.SHOULDER_H - PELVIS_HEIGHT_RATIO) * h]
-    )
+    h = 1.75
+    along, _ = hand.forearm_axes()
+    shoulder = cm.shoulder_joint(h, -1.0)  # the right hand's
     middle = (float(np.mean(hand.reading_distance_m)), 57.5, 35.0)
     for reach, gaze, flexion in [
         middle,
         *itertools.product(hand.reading_distance_m, hand.gaze_down_deg, hand.head_flexion_deg),
     ]:
-        forward, up = cm.bent_eyes(np.radians(flexion))
-        rest = np.array(
-            [
-                forward * h + reach * np.cos(np.radians(gaze)),
-                0.02 * side,
-                (cm.NECK_H + up - PELVIS_HEIGHT_RATIO) * h - reach * np.sin(np.radians(gaze)),
-            ]
-        )
+        rest = hand.rest_place(h, reach, np.radians(gaze), np.radians(flexion))
         upper_arm = np.linalg.norm(rest - hand.forearm_m * along - shoulder)
         # The drawn ranges' corners reach ±25 %: a long reach with a far-bent head.
         assert upper_arm == pytest.approx(cm.UPPER_ARM * h, rel=0.25)
