@@ -63,7 +63,7 @@ from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory
 from indoorsim.walker.hip_curves import HIP_FLEXION, HIP_ROTATION, PELVIC_LIST
 from indoorsim.walker.modes import CarryMode, ModePose, register_mode
 from indoorsim.walker.motion import impulse_displacement
-from indoorsim.walker.physics import PYMUNK_LOCK
+from indoorsim.walker.physics import pymunk_space
 
 __all__ = ["Calling", "Dangling", "Handheld", "Pocketed"]
 
@@ -599,8 +599,7 @@ class Dangling(CarryMode):
         frame = limbs.body_frame(body.yaw)
         shoulder = body.pos + limbs.apply(frame, shoulder_joint(h, side))
         swing = math.radians(self.swing_deg if self.swing_deg is not None else rng.uniform(15, 25))
-        with PYMUNK_LOCK:  # the pendulum's pymunk space lives and dies inside
-            theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)
+        theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)
         # The forearm about the elbow: the upper arm's angular acceleration drives it,
         # by (1 + upper / forearm) for a forearm whose mass sits at the grip.
         upper = UPPER_ARM * h
@@ -706,29 +705,28 @@ class Dangling(CarryMode):
         gy = -_G - np.interp(t_phys, t, smooth[1])
         tau = np.interp(t_phys, t, torque)
 
-        space = pymunk.Space()
-        arm = pymunk.Body(mass, inertia - mass * com**2)
-        arm.center_of_gravity = (0.0, -com)
-        space.add(arm)
-        space.add(pymunk.PivotJoint(space.static_body, arm, (0.0, 0.0), (0.0, 0.0)))
-        space.add(
-            pymunk.DampedRotarySpring(space.static_body, arm, 0.0, self.tone_nm_per_rad, damping)
-        )
-        space.gravity = (float(gx[0]), float(gy[0]))
-        arm.torque = float(tau[0])
-        space.step(dt)  # the first step through pymunk: it checks the bodies once
-        # Then Chipmunk directly: pymunk's property and step wrappers cost more
-        # than the physics here, and this space has no callbacks (same results).
-        # The loop runs some ten thousand times a walk: its names are local.
-        c_space, c_arm = space._space, arm._body
-        get_angle, set_gravity = _CP.cpBodyGetAngle, _CP.cpSpaceSetGravity
-        set_torque, step = _CP.cpBodySetTorque, _CP.cpSpaceStep
-        angle = [0.0]
-        for ax, ay, tk in zip(gx[1:].tolist(), gy[1:].tolist(), tau[1:].tolist(), strict=True):
-            angle.append(get_angle(c_arm))
-            set_gravity(c_space, (ax, ay))
-            set_torque(c_arm, tk)
-            step(c_space, dt)
+        with pymunk_space() as space:
+            shoulder = pymunk.Body(body_type=pymunk.Body.STATIC)
+            arm = pymunk.Body(mass, inertia - mass * com**2)
+            arm.center_of_gravity = (0.0, -com)
+            space.add(shoulder, arm)
+            space.add(pymunk.PivotJoint(shoulder, arm, (0.0, 0.0), (0.0, 0.0)))
+            space.add(pymunk.DampedRotarySpring(shoulder, arm, 0.0, self.tone_nm_per_rad, damping))
+            space.gravity = (float(gx[0]), float(gy[0]))
+            arm.torque = float(tau[0])
+            space.step(dt)  # the first step through pymunk: it checks the bodies once
+            # Then Chipmunk directly: pymunk's property and step wrappers cost more
+            # than the physics here, and this space has no callbacks (same results).
+            # The loop runs some ten thousand times a walk: its names are local.
+            c_space, c_arm = space._space, arm._body
+            get_angle, set_gravity = _CP.cpBodyGetAngle, _CP.cpSpaceSetGravity
+            set_torque, step = _CP.cpBodySetTorque, _CP.cpSpaceStep
+            angle = [0.0]
+            for ax, ay, tk in zip(gx[1:].tolist(), gy[1:].tolist(), tau[1:].tolist(), strict=True):
+                angle.append(get_angle(c_arm))
+                set_gravity(c_space, (ax, ay))
+                set_torque(c_arm, tk)
+                step(c_space, dt)
         return CubicSpline(t_phys, angle)(t)
 
 

@@ -12,8 +12,10 @@ Frames: building frame, metres. Nothing here is random.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import threading
+from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -24,13 +26,39 @@ from pymunk._chipmunk_cffi import lib as _CP
 if TYPE_CHECKING:
     from indoorsim.world.plan import FloorPlan
 
-__all__ = ["PYMUNK_LOCK", "steer"]
+__all__ = ["PYMUNK_LOCK", "pymunk_space", "steer"]
 
 PYMUNK_LOCK = threading.RLock()
-"""Held while any pymunk space of the package lives. Pymunk objects are not
-synchronised and its C calls release the GIL; two walks simulated in threads of
-one process (a multi-threaded Dask worker) crashed in Chipmunk's space teardown.
-The physics is a few per cent of a walk, so serialising it costs little."""
+"""Held while any pymunk space of the package lives (:func:`pymunk_space`).
+Pymunk objects are not synchronised and its C calls release the GIL; two walks
+simulated in threads of one process (a multi-threaded Dask worker) crashed in
+Chipmunk's space teardown. The physics is a few per cent of a walk, so
+serialising it costs little."""
+
+
+@contextlib.contextmanager
+def pymunk_space() -> Iterator[pymunk.Space]:
+    """A pymunk space for one computation, under :data:`PYMUNK_LOCK`, emptied on the way out.
+
+    Pymunk's shapes, bodies and constraints each hold a handle to themselves, so
+    they die in the cyclic garbage collector, not when their last name goes. A
+    space that dies first removes them in its finaliser while iterating them in
+    Chipmunk, the space locked and the GIL released between callbacks; a
+    collection in another thread (a Dask worker's event loop) that frees one of
+    them there removes it from the locked space, and Chipmunk aborts ("cannot be
+    done safely during a call to cpSpaceStep()") or the process segfaults: two
+    data-set runs died so while their cluster closed. Emptied here, while
+    everything in it is still reachable, the space has nothing left to iterate
+    and its garbage no space to touch. Use only bodies added to the space (not
+    ``space.static_body``, which pymunk keeps outside ``space.bodies``).
+    """
+    with PYMUNK_LOCK:
+        space = pymunk.Space()
+        try:
+            yield space
+        finally:
+            space.remove(*space.constraints, *space.shapes, *space.bodies)
+
 
 # Speed (m/s) at which the steering joint pulls the body back onto its planned
 # track after a wall has pushed it off, and the largest acceleration (m/s²) it
@@ -44,14 +72,6 @@ _STEER_CLEAR_M, _STEER_MIN_SKIP, _STEER_ON_TRACK_M = 0.05, 8, 1e-9
 
 
 def steer(
-    plan: FloorPlan, ref: NDArray[np.float64], dt: float, radius: float
-) -> NDArray[np.float64]:
-    """:func:`_steer` under :data:`PYMUNK_LOCK` (its space is freed before the lock is let go)."""
-    with PYMUNK_LOCK:
-        return _steer(plan, ref, dt, radius)
-
-
-def _steer(
     plan: FloorPlan, ref: NDArray[np.float64], dt: float, radius: float
 ) -> NDArray[np.float64]:
     """Drive a pymunk disc through the reference positions ``ref`` (one per ``dt``).
@@ -72,14 +92,22 @@ def _steer(
     Returns:
         (K, 2) positions of the disc, starting at ``ref[0]``.
     """
-    space = pymunk.Space()
+    with pymunk_space() as space:
+        return _steer_in(space, plan, ref, dt, radius)
+
+
+def _steer_in(
+    space: pymunk.Space, plan: FloorPlan, ref: NDArray[np.float64], dt: float, radius: float
+) -> NDArray[np.float64]:
+    """:func:`steer` in the given (empty) space."""
     space.collision_slop = 1e-3  # pymunk's default (0.1) is in metres here: far too loose
+    building = pymunk.Body(body_type=pymunk.Body.STATIC)
     walls = []
     for a, b in plan.walkable_edges.tolist():
-        seg = pymunk.Segment(space.static_body, a, b, 0.0)
+        seg = pymunk.Segment(building, a, b, 0.0)
         seg.friction = 0.0
         walls.append(seg)
-    space.add(*walls)  # in one call: pymunk's add costs more per call than per shape
+    space.add(building, *walls)  # in one call: pymunk's add costs more per call than per shape
     mass = 70.0
     body = pymunk.Body(mass, math.inf)  # the disc never spins: heading is planned
     disc = pymunk.Circle(body, radius)

@@ -79,3 +79,72 @@ def test_steering_copies_the_plan_only_where_the_physics_would(corridor, monkeyp
     full = walk(corridor, route, params, np.random.default_rng(4))
     np.testing.assert_allclose(fast.pos, full.pos, rtol=0, atol=1e-9)
     assert (full.pos[:, 1] > 0.1 + 0.25 - 0.035).all()  # the wall held the disc off
+
+
+def test_a_pymunk_space_is_emptied_on_the_way_out():
+    """Everything added to a :func:`physics.pymunk_space` is detached from it when the
+    block ends, normally or by an exception, so the space's finaliser iterates nothing."""
+    import pymunk
+
+    for fail in (False, True):
+        try:
+            with physics.pymunk_space() as space:
+                anchor = pymunk.Body(body_type=pymunk.Body.STATIC)
+                disc = pymunk.Body(1.0, 1.0)
+                things = [
+                    anchor,
+                    disc,
+                    pymunk.Segment(anchor, (0.0, 0.0), (1.0, 0.0), 0.0),
+                    pymunk.Circle(disc, 0.1),
+                    pymunk.PivotJoint(anchor, disc, (0.0, 0.0)),
+                ]
+                space.add(*things)
+                space.step(0.01)
+                if fail:
+                    raise KeyboardInterrupt
+        except KeyboardInterrupt:
+            pass
+        assert not space.shapes and not space.bodies and not space.constraints
+        assert all(getattr(x, "space", None) is None for x in things)
+
+
+# Steers a walk again and again while another thread runs the cyclic garbage
+# collector without pause: the walls, bodies and joint of each finished walk are
+# cyclic garbage (pymunk objects hold handles to themselves), and a collection
+# that frees one while its space is locked aborts Chipmunk or segfaults.
+_GC_IN_ANOTHER_THREAD = """
+import gc, threading
+import numpy as np
+from indoorsim.walker.physics import steer
+
+xs = np.linspace(0.0, 200.0, 2001)
+edges = [np.stack([np.c_[xs[:-1], np.full(2000, y)], np.c_[xs[1:], np.full(2000, y)]], 1)
+         for y in (0.0, 1.0)]
+
+class Corridor:  # 1 m wide, of 4000 short walls; the plan presses the disc on one
+    walkable_edges = np.concatenate(edges)
+    def nearest_boundary(self, points, max_distance):
+        return np.zeros_like(points)
+
+def collect():
+    while True:
+        gc.collect()
+
+threading.Thread(target=collect, daemon=True).start()
+ref = np.c_[np.linspace(1.0, 3.0, 300), np.full(300, 0.1)]
+for _ in range(10):
+    steer(Corridor(), ref, 0.01, 0.25)
+print("done")
+"""
+
+
+def test_walks_survive_garbage_collection_in_another_thread():
+    """A Dask worker collects garbage in its event loop's thread while a walk runs in
+    another: its pymunk spaces must not crash the process (two data-set runs did)."""
+    import subprocess
+    import sys
+
+    proc = subprocess.run(
+        [sys.executable, "-c", _GC_IN_ANOTHER_THREAD], capture_output=True, text=True, timeout=300
+    )
+    assert (proc.returncode, proc.stdout, proc.stderr) == (0, "done\n", "")
