@@ -285,6 +285,30 @@ def _path_length(xy: NDArray[np.float64]) -> float:
     return float(np.hypot(d[:, 0], d[:, 1]).sum())
 
 
+def track_length(t: ArrayLike, xy: ArrayLike, t0: float, t1: float) -> float:
+    """Length of a track between two times: the polyline through its positions ``xy`` at
+    times ``t`` (increasing) from ``t0`` to ``t1``, each end linearly interpolated.
+
+    The distance a positioning system says was walked. A polyline through a few
+    of its positions instead (at a real trace's waypoint marks, say) cuts every
+    corner the track turns between them, and by more the later the track passes
+    the corner than the mark says: a lagging estimate is read short.
+
+    Example:
+        >>> track_length([0.0, 1.0, 2.0], [[0.0, 0.0], [3.0, 0.0], [3.0, 4.0]], 0.5, 2.0)
+        5.5
+    """
+    tt = _values(t, "t")
+    pos = _points(xy, "xy")
+    if len(tt) != len(pos):
+        raise ValueError(f"t and xy differ in length: {len(tt)} vs {len(pos)}")
+    if not t0 <= t1:
+        raise ValueError(f"t0 = {t0} is after t1 = {t1}")
+    inside = (tt > t0) & (tt < t1)
+    ends = [[np.interp(x, tt, pos[:, k]) for k in range(2)] for x in (t0, t1)]
+    return _path_length(np.vstack([ends[0], pos[inside], ends[1]]))
+
+
 def relative_error(errors: ArrayLike, true_xy: ArrayLike) -> dict[str, float]:
     """Errors relative to the distance walked.
 

@@ -442,11 +442,17 @@ def _turn_centre(
 
 
 def _path_ratio(result: WalkResult) -> float:
-    """Length of the estimated track through the scored times over the true one's."""
-    e = result.estimates
-    est = np.linalg.norm(np.diff(e[["x", "y"]].to_numpy(dtype=float), axis=0), axis=1).sum()
-    true = np.linalg.norm(np.diff(e[["true_x", "true_y"]].to_numpy(dtype=float), axis=0), axis=1)
-    return float(est / true.sum()) if true.sum() > 0 else float("nan")
+    """The walked distance read: the estimator's track from the first waypoint's time to
+    the last (``WalkResult.track_m``) over the waypoints' polyline.
+
+    Not the polyline through the estimate at the waypoint times: that cuts each
+    corner the estimate passes after its mark. On the walks v8 twins (seed 0),
+    whose whole truth is known, the true track was the waypoints' polyline long
+    (1.000 of it), learned-io's track 0.979 of the true one's, and the polyline
+    through learned-io's estimate at the marks 0.939 (pdr-basic: 0.717 against 0.675).
+    """
+    true = result.metrics["path_m"]
+    return float(result.track_m / true) if true > 0 else float("nan")
 
 
 def walk_signals(rec: Recording) -> dict[str, float]:
@@ -775,7 +781,8 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         "so each twin's waypoints are marked at their positions that long before the "
         "simulated walker passes them. Mean absolute error (m) "
         "over traces (twins: their seeds' mean per trace first); the walked-distance ratio "
-        "is the estimated track's length through the waypoint times over the true one's.",
+        "is the length of the estimator's track from the first waypoint's time to the "
+        "last, through every answer it gave, over the waypoints' polyline.",
         "",
         "| estimator | error real (m) | error sim (m) | real / sim | distance ratio real "
         "| distance ratio sim |",

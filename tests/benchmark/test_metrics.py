@@ -447,3 +447,30 @@ def test_the_start_must_be_one_finite_point():
         metrics.start_aligned_errors([[1.0, 1.0]], [[1.0, 1.0]], [np.nan, 0.0])
     with pytest.raises(ValueError):
         metrics.start_aligned_errors([[1.0, 1.0]], [[1.0, 1.0]], [0.0, 0.0, 0.0])
+
+
+def test_track_length_clips_the_track_to_its_times():
+    t = [0.0, 1.0, 2.0, 3.0]
+    xy = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]]
+    assert metrics.track_length(t, xy, 0.0, 3.0) == pytest.approx(6.0)
+    # Ends between answers are interpolated: half of the first leg and half of the last.
+    assert metrics.track_length(t, xy, 0.5, 2.5) == pytest.approx(4.0)
+    # Within one leg: the straight piece between the two interpolated points.
+    assert metrics.track_length(t, xy, 1.25, 1.75) == pytest.approx(1.0)
+    assert metrics.track_length(t, xy, 2.0, 2.0) == 0.0
+    # Longer than the chord through its positions at a few times: it turns between them.
+    chord = math.dist(xy[0], xy[3])
+    assert metrics.track_length(t, xy, 0.0, 3.0) > chord
+
+
+@pytest.mark.parametrize(
+    ("t", "xy", "t0", "t1", "message"),
+    [
+        ([0.0, 1.0], [[0.0, 0.0]], 0.0, 1.0, "differ in length"),
+        ([0.0, 1.0], [[0.0, 0.0], [1.0, math.nan]], 0.0, 1.0, "xy"),
+        ([0.0, 1.0], [[0.0, 0.0], [1.0, 0.0]], 1.0, 0.0, "after"),
+    ],
+)
+def test_track_length_rejects_bad_input(t, xy, t0, t1, message):
+    with pytest.raises(ValueError, match=message):
+        metrics.track_length(t, xy, t0, t1)

@@ -6,11 +6,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from indoorsim.benchmark.evaluation import evaluate_recording
 from indoorsim.benchmark.sim_to_real import (
     SIGNALS,
     StepWalk,
     TwinResults,
     _pace,
+    _path_ratio,
     as_real_log,
     count_steps,
     passing_times,
@@ -109,6 +111,28 @@ def test_a_twin_is_scored_as_a_real_log_at_its_waypoints():
     clamped = as_real_log(rec, np.asarray(route.waypoints, dtype=float), lead_s=1e3)
     times = clamped.waypoints.index.to_numpy()
     assert times[0] == truth.index[0] and np.all(np.diff(times) > 0)
+
+
+def test_the_walked_distance_is_read_from_the_estimators_whole_track():
+    """A twin round the corners of a room, scored as a real log: the distance walked is
+    the estimator's track from the first mark to the last, which passes through its
+    positions at the marks and so is at least the polyline through them, and is read
+    against the marks' polyline (the true track's length through the marks)."""
+    site = load_site("minimal_room")
+    rec = simulate(site, route="main", device="nexus_5x", seed=0)
+    marks = np.asarray(site.scenario.routes["main"].waypoints, dtype=float)
+    twin = as_real_log(rec, marks, lead_s=1.0)
+    result = evaluate_recording("pdr-basic", twin)
+    at_marks = result.estimates[["x", "y"]].to_numpy()
+    chord = np.linalg.norm(np.diff(at_marks, axis=0), axis=1).sum()
+    assert result.track_m >= chord - 1e-9
+    # The marks scored: those from the estimator's first answer on (a mark at the
+    # recording's first instant comes before it).
+    scored = result.estimates[["true_x", "true_y"]].to_numpy()
+    np.testing.assert_array_equal(scored, marks[-len(scored) :])
+    polyline = np.linalg.norm(np.diff(scored, axis=0), axis=1).sum()
+    assert result.metrics["path_m"] == pytest.approx(polyline)
+    assert _path_ratio(result) == pytest.approx(result.track_m / polyline)
 
 
 @pytest.mark.parametrize("sway", [0.0, 0.3])
