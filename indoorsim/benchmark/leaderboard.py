@@ -36,7 +36,8 @@ from indoorsim.benchmark.evaluation import (
 from indoorsim.benchmark.realism.report import RealismConfig, run_realism
 from indoorsim.benchmark.results_site import write_site
 from indoorsim.benchmark.robustness import RobustnessConfig, run_robustness, write_robustness
-from indoorsim.benchmark.sim_to_real import count_steps, oxford_step_walks, write_sim_to_real
+from indoorsim.benchmark.sim_to_real import write_sim_to_real
+from indoorsim.benchmark.step_transfer import count_steps, oxford_step_walks
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.load import load_site
 from indoorsim.util.provenance import REPO, git_revision, realdata_dir
