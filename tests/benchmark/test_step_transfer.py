@@ -3,9 +3,17 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
-from indoorsim.benchmark.step_transfer import StepWalk, count_steps, tune_step_detector
+from indoorsim.benchmark.step_transfer import (
+    STEP_DETECTORS,
+    StepWalk,
+    count_steps,
+    real_step_scores,
+    tune_step_detector,
+    write_step_transfer,
+)
 
 G = 9.80665
 
@@ -51,3 +59,45 @@ def test_tuning_picks_a_setting_inside_the_good_region_not_on_its_edge():
     # 0.15 and 0.25 s are as good on their own, but 0.25 has good neighbours on both sides.
     assert best["min_interval_s"] == 0.25
     assert list(scores.columns[:3]) == list(grid)
+
+
+def test_the_trough_detector_counts_a_clean_walk_and_drops_a_fast_walkers_steps():
+    walk = _walk(1.8, 3.0)
+    assert count_steps(walk, "trough") == pytest.approx(walk.true_steps, abs=1)
+    fast = _walk(2.5, 3.0)
+    assert count_steps(fast, "trough", min_step_s=0.5, max_step_s=1.0) < 0.9 * fast.true_steps
+    with pytest.raises(ValueError, match="no step detector 'pedometer'; there are peak-valley"):
+        count_steps(walk, "pedometer")
+
+
+def test_every_detector_is_tuned_on_its_own_grid():
+    walks = [_walk(1.7, 3.0), _walk(2.3, 3.0)]
+    grid = {"step_cutoff_hz": (3.0,), "trough_threshold_mps2": (0.3,), "min_step_s": (0.3, 0.5)}
+    best, scores = tune_step_detector(walks, grid, detector="trough")
+    # 0.5 s drops the 2.3 Hz walker's steps (0.43 s apart); 0.3 s keeps them.
+    assert best == {"step_cutoff_hz": 3.0, "trough_threshold_mps2": 0.3, "min_step_s": 0.3}
+    assert scores.set_index("min_step_s")["worst_mode_pct"][0.5] > 10
+    assert set(STEP_DETECTORS["trough"].grid) == set(grid)
+    assert set(STEP_DETECTORS["peak-valley"].grid) == {
+        "cutoff_hz",
+        "min_interval_s",
+        "min_amplitude_mps2",
+    }
+
+
+def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
+    rows = []
+    for detector, real_errors in (("peak-valley", (2.0, -4.0, 10.0)), ("trough", (1.0, 1.0, -1.0))):
+        for mode, error in zip(("handheld", "handheld", "pocketed"), real_errors, strict=True):
+            rows.append({"detector": detector, "source": "real", "mode": mode, "error_pct": error})
+        rows.append({"detector": detector, "source": "sim", "mode": "handheld", "error_pct": 0.0})
+    errors = pd.DataFrame(rows)
+    scores = real_step_scores(errors)
+    # Peak-valley: median of |2|, |−4|, |10| is 4; handheld's median |error| 3, pocketed's 10.
+    assert scores["peak-valley"] == (4.0, 10.0)
+    assert scores["trough"] == (1.0, 1.0)
+    best = {"peak-valley": {"min_interval_s": 0.3}, "trough": {"min_step_s": 0.35}}
+    text = "\n".join(write_step_transfer(tmp_path, best, errors))
+    assert "setting min_interval_s = 0.3" in text and "setting min_step_s = 0.35" in text
+    assert "trough: median |error| 1.0 %" in text and "peak-valley: median |error| 4.0 %" in text
+    assert (tmp_path / "sim_to_real_steps.csv").is_file()
