@@ -88,7 +88,7 @@ STEP_DEVICE = "mid_grade"
 
 @dataclass(frozen=True, kw_only=True)
 class StepWalk:
-    """One walk's accelerometer and its true step count."""
+    """One walk's accelerometer, its true step count and when it walked."""
 
     source: str
     """``sim`` or ``real``."""
@@ -98,9 +98,17 @@ class StepWalk:
     t: NDArray[np.float64]
     accel: NDArray[np.float64]
     true_steps: int
+    walking: tuple[float, float] | None = None
+    """From a step interval before the first true step to one after the last, s: the
+    steps a detector reports here are the walk's (:func:`count_steps`). None: the
+    whole recording."""
 
 
 def _walk(rec: Recording, source: str, name: str, mode: str, position: str) -> StepWalk:
+    steps = rec.steps.index.to_numpy(dtype=float)
+    # A step interval either side: a detector reports a step up to half a step
+    # before or after its heel strike (a trough, a low-passed peak).
+    margin = float(np.median(np.diff(steps))) if len(steps) > 1 else 0.0
     return StepWalk(
         source=source,
         name=name,
@@ -108,7 +116,8 @@ def _walk(rec: Recording, source: str, name: str, mode: str, position: str) -> S
         position=position,
         t=rec.accel.index.to_numpy(dtype=float),
         accel=rec.accel[["x", "y", "z"]].to_numpy(dtype=float),
-        true_steps=len(rec.steps),
+        true_steps=len(steps),
+        walking=(steps[0] - margin, steps[-1] + margin) if len(steps) else None,
     )
 
 
@@ -148,14 +157,14 @@ def oxford_step_walks(oxford_dir: Path, *, progress: Progress | None = None) -> 
     return walks
 
 
-def _count_peaks(walk: StepWalk, **settings: float) -> int:
-    return len(PeakStepDetector(**settings).update(walk.t, walk.accel))
+def _peak_times(walk: StepWalk, **settings: float) -> NDArray[np.float64]:
+    return np.array([s.t for s in PeakStepDetector(**settings).update(walk.t, walk.accel)])
 
 
-def _count_troughs(walk: StepWalk, **settings: float) -> int:
+def _trough_times(walk: StepWalk, **settings: float) -> NDArray[np.float64]:
     # No gyro and no fused gravity: the Oxford walks log the accelerometer alone.
     dr = GaitDeadReckoning(use_gravity_stream=False, **settings)
-    return len(dr.update(walk.t, walk.accel, None))
+    return np.array([s.t for s in dr.update(walk.t, walk.accel, None)])
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -165,8 +174,8 @@ class StepDetector:
     label: str
     used_by: str
     grid: dict[str, tuple[float, ...]]
-    count: Callable[..., int]
-    """``count(walk, **settings)``: the steps it finds in a walk fed whole."""
+    times: Callable[..., NDArray[np.float64]]
+    """``times(walk, **settings)``: when it reports the steps of a walk fed whole, s."""
 
 
 STEP_DETECTORS: dict[str, StepDetector] = {
@@ -174,23 +183,36 @@ STEP_DETECTORS: dict[str, StepDetector] = {
         label="Han2023's peak–valley detector",
         used_by="pdr-basic, han2023-pdr, han2023-fusion",
         grid=STEP_GRID,
-        count=_count_peaks,
+        times=_peak_times,
     ),
     "trough": StepDetector(
         label="Chen2022's trough detector",
         used_by="dr-wifi, dr-mm, pf, chen2022-cpf, edtw-rekf, apf, wimag",
         grid=TROUGH_GRID,
-        count=_count_troughs,
+        times=_trough_times,
     ),
 }
 """Every step detector of the package, by the name the table gives it."""
 
 
-def count_steps(walk: StepWalk, detector: str = "peak-valley", **settings: float) -> int:
-    """Steps ``detector`` (a :data:`STEP_DETECTORS` name) with ``settings`` finds in ``walk``."""
+def count_steps(
+    walk: StepWalk, detector: str = "peak-valley", *, whole: bool = False, **settings: float
+) -> int:
+    """Steps ``detector`` (a :data:`STEP_DETECTORS` name) with ``settings`` finds in
+    ``walk`` fed whole, those it reports while the walk walks (``walk.walking``) or,
+    with ``whole``, all of them.
+
+    The real walks' recordings run on for seconds before the first true step and
+    after the last, while the phone goes into the pocket or the bag and comes out;
+    what a detector counts there is the handling, which the simulated walks do not
+    have, not the walk's steps.
+    """
     if detector not in STEP_DETECTORS:
         raise ValueError(f"no step detector {detector!r}; there are {', '.join(STEP_DETECTORS)}")
-    return STEP_DETECTORS[detector].count(walk, **settings)
+    times = STEP_DETECTORS[detector].times(walk, **settings)
+    if whole or walk.walking is None:
+        return len(times)
+    return int(np.count_nonzero((times >= walk.walking[0]) & (times <= walk.walking[1])))
 
 
 def _errors(
@@ -199,6 +221,7 @@ def _errors(
     rows = []
     for w in walks:
         n = count_steps(w, detector, **settings)
+        n_all = count_steps(w, detector, whole=True, **settings)
         rows.append(
             {
                 "detector": detector,
@@ -209,6 +232,8 @@ def _errors(
                 "true_steps": w.true_steps,
                 "detected": n,
                 "error_pct": 100.0 * (n - w.true_steps) / w.true_steps,
+                "detected_whole": n_all,
+                "error_whole_pct": 100.0 * (n_all - w.true_steps) / w.true_steps,
             }
         )
     return pd.DataFrame(rows)
@@ -295,17 +320,20 @@ def _summary(errors: pd.DataFrame) -> pd.DataFrame:
     )
 
 
-def real_step_scores(errors: pd.DataFrame) -> dict[str, tuple[float, float]]:
+def real_step_scores(
+    errors: pd.DataFrame, column: str = "error_pct"
+) -> dict[str, tuple[float, float]]:
     """Per detector, on the real walks in the modelled carrying modes: the median
-    absolute count error and the worst mode's median absolute error, %."""
+    absolute count error and the worst mode's median absolute error, % (``column``:
+    ``error_pct`` while walking, ``error_whole_pct`` over the whole recording)."""
     out = {}
     for name, rows in errors.groupby("detector", sort=False):
         real = rows[(rows["source"] == "real") & rows["mode"].isin(MODELLED_MODES)]
         if not len(real):
             out[str(name)] = (float("nan"), float("nan"))
             continue
-        by_mode = real.groupby("mode")["error_pct"].apply(lambda e: float(np.median(e.abs())))
-        out[str(name)] = (float(np.median(real["error_pct"].abs())), float(by_mode.max()))
+        by_mode = real.groupby("mode")[column].apply(lambda e: float(np.median(e.abs())))
+        out[str(name)] = (float(np.median(real[column].abs())), float(by_mode.max()))
     return out
 
 
@@ -324,7 +352,11 @@ def write_step_transfer(
         f"simulated walks alone: {len(STEP_SITES)} sites × {len(MODELLED_MODES)} modes × "
         f"{len(STEP_SEEDS)} walkers, device {STEP_DEVICE}; the smallest median count error "
         "in the worst carrying mode, averaged with the neighbouring settings on the grid. "
-        "The accelerometer alone, as the Oxford walks log it. Error in % of the true steps.",
+        "The accelerometer alone, as the Oxford walks log it. Counted while the walk "
+        "walks: from a step interval before the first true step to one after the last "
+        "(the real recordings run on for 1–8 s either side, the phone going into the "
+        "pocket or the bag and coming out, which no simulated walk does; the whole "
+        "recordings' counts are in the CSV and below). Error in % of the true steps.",
         "",
     ]
     for name, detector in STEP_DETECTORS.items():
@@ -344,10 +376,12 @@ def write_step_transfer(
             f"{r['median']:+.1f} | {r['median_abs']:.1f} | {r['low']:+.1f} | {r['high']:+.1f} |"
         )
     lines.append("")
+    whole = real_step_scores(errors, "error_whole_pct")
     for name, (overall, worst) in real_step_scores(errors).items():
         lines.append(
             f"Real walks in modelled modes, {name}: median |error| {overall:.1f} % "
-            f"(aim ≤ 3 %), worst mode's median |error| {worst:.1f} % (aim ≤ 8 %)."
+            f"(aim ≤ 3 %), worst mode's median |error| {worst:.1f} % (aim ≤ 8 %); over "
+            f"the whole recordings {whole[name][0]:.1f} % and {whole[name][1]:.1f} %."
         )
         lines.append("")
     return lines

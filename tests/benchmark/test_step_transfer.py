@@ -89,15 +89,62 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
     rows = []
     for detector, real_errors in (("peak-valley", (2.0, -4.0, 10.0)), ("trough", (1.0, 1.0, -1.0))):
         for mode, error in zip(("handheld", "handheld", "pocketed"), real_errors, strict=True):
-            rows.append({"detector": detector, "source": "real", "mode": mode, "error_pct": error})
-        rows.append({"detector": detector, "source": "sim", "mode": "handheld", "error_pct": 0.0})
+            # Over the whole recording, the handling before and after adds 5 points.
+            rows.append(
+                {
+                    "detector": detector,
+                    "source": "real",
+                    "mode": mode,
+                    "error_pct": error,
+                    "error_whole_pct": error + 5.0,
+                }
+            )
+        rows.append(
+            {
+                "detector": detector,
+                "source": "sim",
+                "mode": "handheld",
+                "error_pct": 0.0,
+                "error_whole_pct": 0.0,
+            }
+        )
     errors = pd.DataFrame(rows)
     scores = real_step_scores(errors)
     # Peak-valley: median of |2|, |−4|, |10| is 4; handheld's median |error| 3, pocketed's 10.
     assert scores["peak-valley"] == (4.0, 10.0)
     assert scores["trough"] == (1.0, 1.0)
+    # Whole recordings: trough |6|, |6|, |4| -> median 6, handheld 6, pocketed 4.
+    assert real_step_scores(errors, "error_whole_pct")["trough"] == (6.0, 6.0)
     best = {"peak-valley": {"min_interval_s": 0.3}, "trough": {"min_step_s": 0.35}}
     text = "\n".join(write_step_transfer(tmp_path, best, errors))
     assert "setting min_interval_s = 0.3" in text and "setting min_step_s = 0.35" in text
     assert "trough: median |error| 1.0 %" in text and "peak-valley: median |error| 4.0 %" in text
+    assert "the whole recordings 6.0 % and 6.0 %" in text
     assert (tmp_path / "sim_to_real_steps.csv").is_file()
+
+
+@pytest.mark.parametrize("detector", ["peak-valley", "trough"])
+def test_only_the_steps_reported_while_the_walk_walks_are_counted(detector):
+    """Ten seconds of the phone handled before the walk and after it (a 1.5 Hz jiggle
+    of 3 m/s²): the whole recording counts them, the walk's span does not."""
+    walk = _walk(1.8, 3.0)
+    t = np.arange(-10.0, 70.0, 0.01)
+    up = np.full_like(t, G)
+    inside = (t >= 0.0) & (t < 60.0)
+    up[inside] = walk.accel[:, 2]
+    handled = ~inside
+    up[handled] += 1.5 * np.sin(2 * np.pi * 1.5 * t[handled])
+    accel = np.column_stack([np.zeros_like(t), np.zeros_like(t), up])
+    period = 1.0 / 1.8
+    framed = StepWalk(
+        source="real",
+        name="handled",
+        mode="pocketed",
+        position="pocket",
+        t=t,
+        accel=accel,
+        true_steps=walk.true_steps,
+        walking=(-period, 60.0 + period),
+    )
+    assert count_steps(framed, detector) == pytest.approx(walk.true_steps, abs=2)
+    assert count_steps(framed, detector, whole=True) > walk.true_steps + 20
