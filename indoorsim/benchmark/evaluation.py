@@ -414,10 +414,10 @@ class WalkResult:
     true_heading: NDArray[np.float64] | None = None
     """The true walking direction at each row of ``estimates``, rad; None without one
     (a real log's truth is positions only)."""
-    track_m: float = float("nan")
-    """Length of the estimator's own track, through every answer it gave, from the first
-    row of ``estimates`` to the last, m (:func:`~indoorsim.benchmark.metrics.track_length`):
-    the distance it says was walked. NaN where not measured (simulated boards)."""
+    track: pd.DataFrame | None = None
+    """Every answer the estimator gave: ``t``, ``x``, ``y`` (its own track, whose length
+    between two times, :func:`~indoorsim.benchmark.metrics.track_length`, is the
+    distance it says was walked). None where not kept (simulated boards)."""
 
 
 @dataclass(kw_only=True)
@@ -628,18 +628,12 @@ def evaluate_recording(
     if known.any():
         # Interpolated on the unwrapped angle, as the positions are, where the estimator gave one.
         heading = np.interp(t_true, res.t[known], np.unwrap(res.heading[known]))
-    answered = np.isfinite(res.estimate[:, :2]).all(axis=1)
-    track_m = (
-        metrics.track_length(res.t[answered], res.estimate[answered, :2], t_true[0], t_true[-1])
-        if len(t_true) and answered.any()
-        else float("nan")
-    )
     return WalkResult(
         seed=0,
         estimates=frame,
         metrics=metrics.summarize(est_at, true_xy, latencies=res.latency_s),
         heading=heading,
-        track_m=track_m,
+        track=pd.DataFrame({"t": res.t, "x": res.estimate[:, 0], "y": res.estimate[:, 1]}),
     )
 
 

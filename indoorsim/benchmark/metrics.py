@@ -287,12 +287,14 @@ def _path_length(xy: NDArray[np.float64]) -> float:
 
 def track_length(t: ArrayLike, xy: ArrayLike, t0: float, t1: float) -> float:
     """Length of a track between two times: the polyline through its positions ``xy`` at
-    times ``t`` (increasing) from ``t0`` to ``t1``, each end linearly interpolated.
+    times ``t`` (strictly increasing) from ``t0`` to ``t1``, each end linearly
+    interpolated (and held at the track's first or last position outside its times).
 
     The distance a positioning system says was walked. A polyline through a few
     of its positions instead (at a real trace's waypoint marks, say) cuts every
     corner the track turns between them, and by more the later the track passes
-    the corner than the mark says: a lagging estimate is read short.
+    the corner than the mark says. Every answer counts: sampled finer, a track
+    that wobbles reads longer.
 
     Example:
         >>> track_length([0.0, 1.0, 2.0], [[0.0, 0.0], [3.0, 0.0], [3.0, 4.0]], 0.5, 2.0)
@@ -302,6 +304,13 @@ def track_length(t: ArrayLike, xy: ArrayLike, t0: float, t1: float) -> float:
     pos = _points(xy, "xy")
     if len(tt) != len(pos):
         raise ValueError(f"t and xy differ in length: {len(tt)} vs {len(pos)}")
+    if not len(tt):
+        raise ValueError("t: empty")
+    if (np.diff(tt) <= 0).any():
+        k = int(np.argmax(np.diff(tt) <= 0))
+        raise ValueError(f"t must increase: t[{k + 1}] = {tt[k + 1]} after t[{k}] = {tt[k]}")
+    if not (math.isfinite(t0) and math.isfinite(t1)):
+        raise ValueError(f"t0 = {t0} and t1 = {t1} must be finite")
     if not t0 <= t1:
         raise ValueError(f"t0 = {t0} is after t1 = {t1}")
     inside = (tt > t0) & (tt < t1)

@@ -461,6 +461,10 @@ def test_track_length_clips_the_track_to_its_times():
     # Longer than the chord through its positions at a few times: it turns between them.
     chord = math.dist(xy[0], xy[3])
     assert metrics.track_length(t, xy, 0.0, 3.0) > chord
+    # Outside the track's times its ends are held, not extrapolated.
+    assert metrics.track_length(t, xy, -5.0, 9.0) == pytest.approx(6.0)
+    # One answer: no distance.
+    assert metrics.track_length([1.0], [[4.0, 4.0]], 0.0, 2.0) == 0.0
 
 
 @pytest.mark.parametrize(
@@ -469,6 +473,10 @@ def test_track_length_clips_the_track_to_its_times():
         ([0.0, 1.0], [[0.0, 0.0]], 0.0, 1.0, "differ in length"),
         ([0.0, 1.0], [[0.0, 0.0], [1.0, math.nan]], 0.0, 1.0, "xy"),
         ([0.0, 1.0], [[0.0, 0.0], [1.0, 0.0]], 1.0, 0.0, "after"),
+        ([0.0, 1.0], [[0.0, 0.0], [1.0, 0.0]], math.nan, 1.0, "finite"),
+        ([0.0, 2.0, 1.0], [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]], 0.0, 2.0, r"t\[2\] = 1.0 after"),
+        ([0.0, 0.0], [[0.0, 0.0], [1.0, 0.0]], 0.0, 1.0, "must increase"),
+        ([], np.zeros((0, 2)), 0.0, 1.0, "empty"),
     ],
 )
 def test_track_length_rejects_bad_input(t, xy, t0, t1, message):
