@@ -11,9 +11,11 @@ from indoorsim.benchmark.step_transfer import (
     StepWalk,
     count_steps,
     real_step_scores,
+    step_walk,
     tune_step_detector,
     write_step_transfer,
 )
+from indoorsim.io.recording import Recording
 
 G = 9.80665
 
@@ -88,24 +90,38 @@ def test_every_detector_is_tuned_on_its_own_grid():
 def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
     rows = []
     for detector, real_errors in (("peak-valley", (2.0, -4.0, 10.0)), ("trough", (1.0, 1.0, -1.0))):
-        for mode, error in zip(("handheld", "handheld", "pocketed"), real_errors, strict=True):
-            # Over the whole recording, the handling before and after adds 5 points.
+        for k, (mode, error) in enumerate(
+            zip(("handheld", "handheld", "pocketed"), real_errors, strict=True)
+        ):
+            # While walking, the handling before and after takes 5 points off.
             rows.append(
                 {
                     "detector": detector,
                     "source": "real",
+                    "walk": f"w{k}",
                     "mode": mode,
+                    "true_steps": 100,
+                    "detected": 100 + error,
                     "error_pct": error,
-                    "error_whole_pct": error + 5.0,
+                    "detected_walking": 95 + error,
+                    "error_walking_pct": error - 5.0,
+                    "handled_before_s": 1.0 + k,
+                    "handled_after_s": 4.0 + k,
                 }
             )
         rows.append(
             {
                 "detector": detector,
                 "source": "sim",
+                "walk": "s",
                 "mode": "handheld",
+                "true_steps": 100,
+                "detected": 100,
                 "error_pct": 0.0,
-                "error_whole_pct": 0.0,
+                "detected_walking": 100,
+                "error_walking_pct": 0.0,
+                "handled_before_s": 0.0,
+                "handled_after_s": 0.0,
             }
         )
     errors = pd.DataFrame(rows)
@@ -113,20 +129,23 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
     # Peak-valley: median of |2|, |−4|, |10| is 4; handheld's median |error| 3, pocketed's 10.
     assert scores["peak-valley"] == (4.0, 10.0)
     assert scores["trough"] == (1.0, 1.0)
-    # Whole recordings: trough |6|, |6|, |4| -> median 6, handheld 6, pocketed 4.
-    assert real_step_scores(errors, "error_whole_pct")["trough"] == (6.0, 6.0)
+    # While walking: trough |−4|, |−4|, |−6| -> median 4, handheld 4, pocketed 6.
+    assert real_step_scores(errors, "error_walking_pct")["trough"] == (4.0, 6.0)
     best = {"peak-valley": {"min_interval_s": 0.3}, "trough": {"min_step_s": 0.35}}
     text = "\n".join(write_step_transfer(tmp_path, best, errors))
-    assert "setting min_interval_s = 0.3" in text and "setting min_step_s = 0.35" in text
+    assert "tuned here: min_interval_s = 0.3" in text and "tuned here: min_step_s = 0.35" in text
     assert "trough: median |error| 1.0 %" in text and "peak-valley: median |error| 4.0 %" in text
-    assert "the whole recordings 6.0 % and 6.0 %" in text
+    assert "run on 1.0–3.0 s before the first true step and 4.0–6.0 s after" in text
+    assert "peak-valley 5–5 a recording; trough 5–5 a recording" in text
+    assert "trough median |error| 4.0 %, worst mode 6.0 %" in text
     assert (tmp_path / "sim_to_real_steps.csv").is_file()
 
 
 @pytest.mark.parametrize("detector", ["peak-valley", "trough"])
-def test_only_the_steps_reported_while_the_walk_walks_are_counted(detector):
+def test_a_recording_counts_the_handling_and_the_walking_span_does_not(detector):
     """Ten seconds of the phone handled before the walk and after it (a 1.5 Hz jiggle
-    of 3 m/s²): the whole recording counts them, the walk's span does not."""
+    of 3 m/s²): every step reported counts, the handling's among them; while the walk
+    walks, only the walk's."""
     walk = _walk(1.8, 3.0)
     t = np.arange(-10.0, 70.0, 0.01)
     up = np.full_like(t, G)
@@ -144,7 +163,31 @@ def test_only_the_steps_reported_while_the_walk_walks_are_counted(detector):
         t=t,
         accel=accel,
         true_steps=walk.true_steps,
-        walking=(-period, 60.0 + period),
+        true_span=(0.0, 60.0 - period, period),
     )
-    assert count_steps(framed, detector) == pytest.approx(walk.true_steps, abs=2)
-    assert count_steps(framed, detector, whole=True) > walk.true_steps + 20
+    assert framed.handled_s == pytest.approx((10.0, 10.0 + period), abs=0.02)
+    assert count_steps(framed, detector, while_walking=True) == pytest.approx(
+        walk.true_steps, abs=2
+    )
+    assert count_steps(framed, detector) > walk.true_steps + 20
+
+
+def test_a_walks_span_comes_from_its_true_steps():
+    """A recording's true steps give the walking span, half an interval before the first
+    and one and a half after the last (the detectors report a step after its heel
+    strike); without two true steps there is none."""
+    t = np.arange(0.0, 20.0, 0.01)
+    accel = pd.DataFrame({"x": 0.0, "y": 0.0, "z": G}, index=pd.Index(t, name="t"))
+    steps = pd.DataFrame(
+        {"foot": None, "length": np.nan}, index=pd.Index([5.0, 5.5, 6.5], name="t")
+    )
+    rec = Recording._from_built({"accel": accel, "steps": steps}, {})
+    walk = step_walk(rec, "real", "w", "pocketed", "pocket")
+    # Intervals 0.5 and 1.0: median 0.75.
+    assert walk.true_span == (5.0, 6.5, 0.75)
+    assert walk.walking == pytest.approx((5.0 - 0.375, 6.5 + 1.125))
+    assert walk.handled_s == pytest.approx((5.0, 19.99 - 6.5))
+    one = Recording._from_built({"accel": accel, "steps": steps.iloc[:1]}, {})
+    alone = step_walk(one, "real", "w", "pocketed", "pocket")
+    assert alone.walking is None and alone.handled_s == (0.0, 0.0)
+    assert count_steps(alone, while_walking=True) == count_steps(alone) == 0
