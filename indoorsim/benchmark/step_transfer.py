@@ -131,9 +131,11 @@ class StepWalk:
 
 WALKING_MARGINS = (0.5, 1.5)
 """The walking span's margins before the first true step and after the last, in true
-step intervals: when the detectors report a step, measured after the heel strike it
-belongs to (Oxford walks, 10th–90th percentile): the peak–valley detector 0.1–0.35 of
-an interval, the trough detector 0.5–1.0 (the simulated walks 0.4 and 0.8–0.9)."""
+step intervals. A detector reports a step some way after the true step it belongs
+to (the real walks in modelled modes, 10th–50th–90th percentile of that delay: the
+peak–valley detector 0.12–0.25–0.41 of an interval, the trough detector
+0.30–0.63–0.77; simulated walks 0.10–0.42–0.46 and 0.40–0.81–0.86), so the span ends
+well after the last true step and need not start much before the first."""
 
 
 def step_walk(rec: Recording, source: str, name: str, mode: str, position: str) -> StepWalk:
