@@ -109,11 +109,14 @@ def test_a_pymunk_space_is_emptied_on_the_way_out():
 
 
 # Steers a walk again and again while another thread runs the cyclic garbage
-# collector without pause: the walls, bodies and joint of each finished walk are
-# cyclic garbage (pymunk objects hold handles to themselves), and a collection
-# that frees one while its space is locked aborts Chipmunk or segfaults.
+# collector every millisecond: the walls, bodies and joint of each finished walk
+# are cyclic garbage (pymunk objects hold handles to themselves), and a collection
+# that frees one while its space is locked aborts Chipmunk or segfaults (the code
+# before the fix: 6 runs of 6). The pause lets the walk have the GIL: collecting
+# without one starved it (a full collection holds the GIL throughout), and a run
+# took minutes.
 _GC_IN_ANOTHER_THREAD = """
-import gc, threading
+import gc, threading, time
 import numpy as np
 from indoorsim.walker.physics import steer
 
@@ -129,6 +132,7 @@ class Corridor:  # 1 m wide, of 4000 short walls; the plan presses the disc on o
 def collect():
     while True:
         gc.collect()
+        time.sleep(0.001)
 
 threading.Thread(target=collect, daemon=True).start()
 ref = np.c_[np.linspace(1.0, 3.0, 300), np.full(300, 0.1)]
