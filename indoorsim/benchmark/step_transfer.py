@@ -387,11 +387,9 @@ def write_step_transfer(
     """``sim_to_real_steps.csv``; returns the Markdown section for ``sim_to_real.md``."""
     errors.to_csv(out / "sim_to_real_steps.csv", index=False)
     summary = _summary(errors)
-    real = errors[errors["source"] == "real"].drop_duplicates("walk")
-    handled = real[["handled_before_s", "handled_after_s"]]
-    outside = errors[errors["source"] == "real"].assign(
-        outside=lambda e: e["detected"] - e["detected_walking"]
-    )
+    real = errors[errors["source"] == "real"]
+    handled = real.drop_duplicates("walk")  # one row a walk: its recording, not the detector
+    outside = (real["detected"] - real["detected_walking"]).groupby(real["detector"], sort=False)
     lines = [
         "## Step counts: detectors tuned on simulated walks, on real ones",
         "",
@@ -439,10 +437,7 @@ def write_step_transfer(
             f"{handled['handled_after_s'].min():.1f}–{handled['handled_after_s'].max():.1f} s "
             "after the last (the phone put into the pocket or bag and taken out), which no "
             "simulated walk does, and the detectors report steps there: "
-            + "; ".join(
-                f"{name} {int(g['outside'].min())}–{int(g['outside'].max())} a recording"
-                for name, g in outside.groupby("detector", sort=False)
-            )
+            + "; ".join(f"{name} {int(n.min())}–{int(n.max())} a recording" for name, n in outside)
             + ". A detector tuned on simulated walks has never had to reject that "
             "handling. Counted only while the walk walks (from "
             f"{before:g} of a true step interval before the first true step to {after:g} "

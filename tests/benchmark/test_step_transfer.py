@@ -87,6 +87,23 @@ def test_every_detector_is_tuned_on_its_own_grid():
     }
 
 
+def _row(detector, source, walk, mode, error, walking_error, handled=(0.0, 0.0)):
+    """One walk's row of the step-count table, 100 true steps."""
+    return {
+        "detector": detector,
+        "source": source,
+        "walk": walk,
+        "mode": mode,
+        "true_steps": 100,
+        "detected": 100 + error,
+        "error_pct": error,
+        "detected_walking": 100 + walking_error,
+        "error_walking_pct": walking_error,
+        "handled_before_s": handled[0],
+        "handled_after_s": handled[1],
+    }
+
+
 def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
     rows = []
     for detector, real_errors in (("peak-valley", (2.0, -4.0, 10.0)), ("trough", (1.0, 1.0, -1.0))):
@@ -95,35 +112,9 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
         ):
             # While walking, the handling before and after takes 5 points off.
             rows.append(
-                {
-                    "detector": detector,
-                    "source": "real",
-                    "walk": f"w{k}",
-                    "mode": mode,
-                    "true_steps": 100,
-                    "detected": 100 + error,
-                    "error_pct": error,
-                    "detected_walking": 95 + error,
-                    "error_walking_pct": error - 5.0,
-                    "handled_before_s": 1.0 + k,
-                    "handled_after_s": 4.0 + k,
-                }
+                _row(detector, "real", f"w{k}", mode, error, error - 5.0, (1.0 + k, 4.0 + k))
             )
-        rows.append(
-            {
-                "detector": detector,
-                "source": "sim",
-                "walk": "s",
-                "mode": "handheld",
-                "true_steps": 100,
-                "detected": 100,
-                "error_pct": 0.0,
-                "detected_walking": 100,
-                "error_walking_pct": 0.0,
-                "handled_before_s": 0.0,
-                "handled_after_s": 0.0,
-            }
-        )
+        rows.append(_row(detector, "sim", "s", "handheld", 0.0, 0.0))
     errors = pd.DataFrame(rows)
     scores = real_step_scores(errors)
     # Peak-valley: median of |2|, |−4|, |10| is 4; handheld's median |error| 3, pocketed's 10.
