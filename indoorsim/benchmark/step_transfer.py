@@ -20,11 +20,14 @@ real Oxford step-counter walk, against the reference device's count. A step
 counter does not know how the phone is carried, so one setting serves every mode.
 Every step a detector reports in the recording counts, as a step counter's would.
 
-The real recordings also run on for seconds before the first true step and after
-the last, while the phone goes into the pocket and comes out, which no simulated
-walk does; so a second count, beside, takes only the steps reported while the walk
-walks (:attr:`StepWalk.walking`, from the reference device's steps): it separates
-the detectors' counting of a walk from their rejection of handling.
+The real recordings are a phone app's: they run on for seconds before the first
+true step and after the last, while the phone goes from the hand that started the
+app to where it is carried and back. The simulated walks are recorded the same way
+(:func:`app_recording`): they start and end in the hand, and the change of place
+is the hand's reach with a pocket's stroke (:mod:`~indoorsim.walker.handling`). A
+second count, beside, takes only the steps reported while the walk walks
+(:attr:`StepWalk.walking`, from the reference device's steps): it separates the
+detectors' counting of a walk from their rejection of handling.
 """
 
 from __future__ import annotations
@@ -45,7 +48,10 @@ from indoorsim.estimators.pdr.steps import PeakStepDetector
 from indoorsim.io.recording import Recording
 from indoorsim.scenario.generate import generate
 from indoorsim.scenario.load import load_site
-from indoorsim.simulate import simulate
+from indoorsim.simulate import resolve_route, run_streams, simulate
+from indoorsim.walker.gait import WalkerParams, walk
+from indoorsim.walker.schedule import ScheduleLike
+from indoorsim.world.site import Site
 
 __all__ = [
     "OXFORD",
@@ -54,6 +60,7 @@ __all__ = [
     "TROUGH_GRID",
     "StepDetector",
     "StepWalk",
+    "app_recording",
     "count_steps",
     "oxford_step_walks",
     "real_step_scores",
@@ -154,6 +161,31 @@ def step_walk(rec: Recording, source: str, name: str, mode: str, position: str) 
     )
 
 
+APP_HOLD_S = 1.5
+"""How long the phone stays in the hand that started the app before it is put where it
+is carried (the schedule's shortest stretch: one change's time), s."""
+APP_RETURN_S = 0.5
+"""How long after the walk's last heel strike the hand takes the phone back, s: the
+walker has come to a halt."""
+
+
+def app_recording(site: Site, route: str, mode: str, seed: int) -> ScheduleLike:
+    """The carrying-mode schedule of ``route``'s walk with ``seed`` recorded as a phone
+    app records one: started in the hand (held as :data:`MODELLED_MODES`' handheld
+    holds it), put where ``mode`` carries it, and taken back into the hand once the
+    walk ends, before the recording stops. A handheld walk stays in the hand.
+
+    The walk's own steps time the return: :func:`~indoorsim.simulate.simulate` walks
+    the body from the same seed before it carries the phone, so the body is the one
+    walked here.
+    """
+    if mode == "handheld":
+        return mode
+    body = walk(site.plan, resolve_route(site, route), WalkerParams(), run_streams(seed)["walker"])
+    last_step = float(body.steps["t"].iloc[-1])
+    return [(0.0, "handheld"), (APP_HOLD_S, mode), (last_step + APP_RETURN_S, "handheld")]
+
+
 def simulated_step_walks(
     sites: Sequence[str | tuple[str, int]] = STEP_SITES,
     seeds: Sequence[int] = STEP_SEEDS,
@@ -162,7 +194,8 @@ def simulated_step_walks(
     *,
     progress: Progress | None = None,
 ) -> list[StepWalk]:
-    """Simulated walks (site × mode × seed) on each site's first route."""
+    """Simulated walks (site × mode × seed) on each site's first route, each recorded as
+    a phone app records one (:func:`app_recording`)."""
     walks = []
     for spec in sites:
         site = load_site(generate(spec[0], seed=spec[1]) if isinstance(spec, tuple) else spec)
@@ -171,7 +204,8 @@ def simulated_step_walks(
         for mode, seed in itertools.product(modes, seeds):
             if progress:
                 progress(f"step walks {label} {mode} {seed}")
-            rec = simulate(site, route=route, mode=mode, device=device, seed=seed)
+            schedule = app_recording(site, route, mode, seed)
+            rec = simulate(site, route=route, mode=schedule, device=device, seed=seed)
             walks.append(step_walk(rec, "sim", f"{label} seed {seed}", mode, mode))
     return walks
 
@@ -390,6 +424,8 @@ def write_step_transfer(
     real = errors[errors["source"] == "real"]
     handled = real.drop_duplicates("walk")  # one row a walk: its recording, not the detector
     outside = (real["detected"] - real["detected_walking"]).groupby(real["detector"], sort=False)
+    sim = errors[errors["source"] == "sim"]
+    sim_outside = (sim["detected"] - sim["detected_walking"]).groupby(sim["detector"], sort=False)
     lines = [
         "## Step counts: detectors tuned on simulated walks, on real ones",
         "",
@@ -399,6 +435,9 @@ def write_step_transfer(
         f"simulated walks alone: {len(STEP_SITES)} sites × {len(MODELLED_MODES)} modes × "
         f"{len(STEP_SEEDS)} walkers, device {STEP_DEVICE}; the smallest median count error "
         "in the worst carrying mode, averaged with the neighbouring settings on the grid. "
+        "Each simulated walk is recorded as a phone app records one: started and stopped "
+        "in the hand, with the phone taken to where the mode carries it and back "
+        "(the hand's reach and a pocket's stroke in and out). "
         "The accelerometer alone, as the Oxford walks log it; every step the detector "
         "reports in the recording counts. Error in % of the true steps.",
         "",
@@ -435,11 +474,13 @@ def write_step_transfer(
             f"{handled['handled_before_s'].min():.1f}–{handled['handled_before_s'].max():.1f} s "
             "before the first true step and "
             f"{handled['handled_after_s'].min():.1f}–{handled['handled_after_s'].max():.1f} s "
-            "after the last (the phone put into the pocket or bag and taken out), which no "
-            "simulated walk does, and the detectors report steps there: "
+            "after the last (the phone put into the pocket or bag and taken out, the "
+            "walker standing), and the detectors report steps there: "
             + "; ".join(f"{name} {int(n.min())}–{int(n.max())} a recording" for name, n in outside)
-            + ". A detector tuned on simulated walks has never had to reject that "
-            "handling. Counted only while the walk walks (from "
+            + ". In the simulated walks, where the hand takes the phone in 1.5 s and the "
+            "walker then stands still, they report "
+            + "; ".join(f"{name} {int(n.min())}–{int(n.max())}" for name, n in sim_outside)
+            + ". Counted only while the walk walks (from "
             f"{before:g} of a true step interval before the first true step to {after:g} "
             "after the last, a span the reference device's steps give and a step counter "
             "does not know), the same detectors read: "

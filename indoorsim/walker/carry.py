@@ -3,7 +3,9 @@
 :func:`carry` follows a :class:`~indoorsim.walker.gait.BodyTrajectory` with the
 phone in one or more carrying modes (DESIGN §5) — the built-in ``handheld``,
 ``calling``, ``dangling`` and ``pocketed`` of :mod:`indoorsim.walker.carry_modes`
-(re-exported here), or a plugin's — blending their poses across each change.
+(re-exported here), or a plugin's. At each change the hand takes the phone from
+one mode's place to the next's: a minimum-jerk reach, and a pocket's stroke in or
+out where a mode holds it in one (:mod:`indoorsim.walker.handling`).
 
 Modes are components: frozen dataclasses whose fields are their parameters,
 registered by name (the protocol and the registry, with its entry-point group
@@ -39,6 +41,7 @@ from scipy.spatial.transform import Rotation
 from indoorsim.walker import limbs
 from indoorsim.walker.carry_modes import Calling, Dangling, Handheld, Pocketed
 from indoorsim.walker.gait import BodyTrajectory, smootherstep
+from indoorsim.walker.handling import handover
 from indoorsim.walker.modes import (
     ENTRY_POINT_GROUP,
     MODES,
@@ -123,8 +126,10 @@ def carry(
             before and before the walk ends. ``params`` are the mode's
             fields, e.g. ``(0.0, "handheld", {"pitch_deg": 0.0})``.
         rng: the only source of randomness.
-        transition_s: how long a change of mode takes (1–3 s, REALISM §6.1);
-            positions blend smoothly (C²) and orientations by slerp over it.
+        transition_s: how long a change of mode takes (1–3 s, REALISM §6.1): the
+            hand's minimum-jerk reach from one place to the next (positions blend
+            C², orientations by slerp), and a pocket's stroke in or out
+            (:mod:`~indoorsim.walker.handling`).
 
     Returns:
         The phone trajectory on the body's time base.
@@ -168,16 +173,23 @@ def carry(
         which[sl] = j
         if j == 0:
             continue
-        # Blend from the previous mode, which was evaluated past this start.
+        # The hand takes the phone from the previous mode's place, which was
+        # evaluated past this start, to this one's (:func:`~.handling.handover`).
         prev_i0, prev = poses[j - 1]
         k = min(len(pose.pos), prev_i0 + len(prev.pos) - i0)
-        w = smootherstep((t[i0 : i0 + k] - t[i0]) / transition_s)
         a = slice(i0 - prev_i0, i0 - prev_i0 + k)
-        wc = w[:, None]
-        pos[i0 : i0 + k] = (1 - wc) * prev.pos[a] + wc * pose.pos[:k]
+        tau = t[i0 : i0 + k] - t[i0]
+        pos[i0 : i0 + k], reach = handover(
+            tau,
+            transition_s,
+            (prev.pos[a], prev.rot[a], prev.stroke),
+            (pose.pos[:k], pose.rot[:k], pose.stroke),
+        )
+        # Light, shade and the label pass over the whole change (the label from its middle).
+        w = smootherstep(tau / transition_s)
         light[i0 : i0 + k] = (1 - w) * prev.light_exposure[a] + w * pose.light_exposure[:k]
         shade[i0 : i0 + k] = (1 - w) * flags[j - 1] + w * flags[j]
-        limbs.put_scalar_first(quat[i0 : i0 + k], _slerp(prev.rot[a], pose.rot[:k], w))
+        limbs.put_scalar_first(quat[i0 : i0 + k], _slerp(prev.rot[a], pose.rot[:k], reach))
         which[i0 : i0 + k] = np.where(w < 0.5, j - 1, j)
     # Sized by the longest name in use, as a string array built from the names would be.
     used = np.flatnonzero(np.bincount(which, minlength=len(entries)))

@@ -60,6 +60,7 @@ from indoorsim.walker.anthropometry import (
     shoulder_joint,
 )
 from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory
+from indoorsim.walker.handling import draw_pocket_stroke
 from indoorsim.walker.hip_curves import HIP_FLEXION, HIP_ROTATION, PELVIC_LIST
 from indoorsim.walker.modes import CarryMode, ModePose, register_mode
 from indoorsim.walker.motion import impulse_displacement
@@ -938,7 +939,9 @@ class Pocketed(CarryMode):
         pos = rigid_pos + limbs.apply(rigid, shift)
         rot = limbs.compose(rigid, wobble)
         light = np.full(len(body.t), rng.uniform(*self.light_exposure_range))
-        return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=light)
+        # Pocketed and taken out along its long axis, the top first when it sits top down.
+        stroke = draw_pocket_stroke(rng, np.array([0.0, 1.0 if top_down else -1.0, 0.0]))
+        return ModePose(pos=pos, rot=limbs.rotation(rot), light_exposure=light, stroke=stroke)
 
     def _wobble(
         self,

@@ -31,6 +31,7 @@ from scipy.spatial.transform import Rotation
 
 from indoorsim.util.errors import UnknownNameError
 from indoorsim.walker.gait import BodyTrajectory
+from indoorsim.walker.handling import PocketStroke
 
 __all__ = [
     "ENTRY_POINT_GROUP",
@@ -59,11 +60,15 @@ class ModePose:
         pos: (K, 3) position, building frame.
         rot: K world←phone rotations.
         light_exposure: (K,) in [0, 1].
+        stroke: how the phone slides into the place that holds it, for a mode that
+            holds it in a pocket (:mod:`~indoorsim.walker.handling`); None for a hand
+            or an ear, which the phone is simply brought to.
     """
 
     pos: NDArray[np.float64]
     rot: Rotation
     light_exposure: NDArray[np.float64]
+    stroke: PocketStroke | None = None
 
 
 class CarryMode(ABC):

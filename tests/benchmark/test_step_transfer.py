@@ -7,8 +7,11 @@ import pandas as pd
 import pytest
 
 from indoorsim.benchmark.step_transfer import (
+    APP_HOLD_S,
+    APP_RETURN_S,
     STEP_DETECTORS,
     StepWalk,
+    app_recording,
     count_steps,
     real_step_scores,
     step_walk,
@@ -16,6 +19,8 @@ from indoorsim.benchmark.step_transfer import (
     write_step_transfer,
 )
 from indoorsim.io.recording import Recording
+from indoorsim.scenario.load import load_site
+from indoorsim.simulate import simulate
 
 G = 9.80665
 
@@ -128,6 +133,7 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
     assert "trough: median |error| 1.0 %" in text and "peak-valley: median |error| 4.0 %" in text
     assert "run on 1.0–3.0 s before the first true step and 4.0–6.0 s after" in text
     assert "peak-valley 5–5 a recording; trough 5–5 a recording" in text
+    assert "they report peak-valley 0–0; trough 0–0." in text
     assert "trough median |error| 4.0 %, worst mode 6.0 %" in text
     assert (tmp_path / "sim_to_real_steps.csv").is_file()
 
@@ -182,3 +188,21 @@ def test_a_walks_span_comes_from_its_true_steps():
     alone = step_walk(one, "real", "w", "pocketed", "pocket")
     assert alone.walking is None and alone.handled_s == (0.0, 0.0)
     assert count_steps(alone, while_walking=True) == count_steps(alone) == 0
+
+
+def test_a_simulated_walk_is_recorded_as_a_phone_app_records_one():
+    """Started in the hand, put where the mode carries it, taken back after the last step:
+    the schedule's return follows the walk that the simulation then walks."""
+    site = load_site("minimal_room")
+    route = next(iter(site.scenario.routes))
+    assert app_recording(site, route, "handheld", 3) == "handheld"
+    schedule = app_recording(site, route, "pocketed", 3)
+    rec = simulate(site, route=route, mode=schedule, seed=3)
+    last_step = float(rec.steps.index[-1])
+    assert schedule == [
+        (0.0, "handheld"),
+        (APP_HOLD_S, "pocketed"),
+        (pytest.approx(last_step + APP_RETURN_S), "handheld"),
+    ]
+    modes = rec.truth["mode"].to_numpy()
+    assert modes[0] == "handheld" and modes[-1] == "handheld" and "pocketed" in set(modes)
