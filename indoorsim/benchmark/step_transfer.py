@@ -46,6 +46,7 @@ from indoorsim.benchmark.realism.reference import MODELLED_MODES
 from indoorsim.estimators.pdr.gait import GaitDeadReckoning
 from indoorsim.estimators.pdr.steps import PeakStepDetector
 from indoorsim.io.recording import Recording
+from indoorsim.scenario import RouteSpec
 from indoorsim.scenario.generate import generate
 from indoorsim.scenario.load import load_site
 from indoorsim.simulate import resolve_route, run_streams, simulate
@@ -66,6 +67,7 @@ __all__ = [
     "real_step_scores",
     "simulated_step_walks",
     "step_count_transfer",
+    "step_route",
     "step_walk",
     "tune_step_detector",
     "write_step_transfer",
@@ -100,6 +102,10 @@ STEP_SITES: tuple[str | tuple[str, int], ...] = (
 STEP_SEEDS = (0, 1, 2)
 STEP_DEVICE = "mid_grade"
 """A generic phone at 100 Hz, as the Oxford walks' phones log."""
+STEP_WALK_S = 170.0
+"""How long each simulated walk walks, at least, s: as long as the Oxford recordings
+walk (their 257–361 true steps at 1.7–1.9 steps/s, 140–200 s), so that the phone's
+handling before and after weighs in a simulated walk's count as in a real one's."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -169,7 +175,22 @@ APP_RETURN_S = 0.5
 walker has come to a halt."""
 
 
-def app_recording(site: Site, route: str, mode: str, seed: int) -> ScheduleLike:
+def step_route(site: Site, route: str, seconds: float = STEP_WALK_S) -> RouteSpec:
+    """``route`` of ``site`` walked there and back, and on, until its waypoints run for
+    ``seconds`` at its speed (a little over: the last pass is whole)."""
+    planned = resolve_route(site, route)
+    forward = [(float(x), float(y)) for x, y in planned.points]
+    length = float(np.sum(np.linalg.norm(np.diff(planned.points, axis=0), axis=1)))
+    passes = (forward[::-1][1:], forward[1:])  # back to the start, out to the end again
+    way, walked, k = list(forward), length, 0
+    while walked < seconds * planned.speed:
+        way += passes[k % 2]
+        walked += length
+        k += 1
+    return RouteSpec(waypoints=way, speed=planned.speed)
+
+
+def app_recording(site: Site, route: str | RouteSpec, mode: str, seed: int) -> ScheduleLike:
     """The carrying-mode schedule of ``route``'s walk with ``seed`` recorded as a phone
     app records one: started in the hand (held as :data:`MODELLED_MODES`' handheld
     holds it), put where ``mode`` carries it, and taken back into the hand once the
@@ -194,13 +215,14 @@ def simulated_step_walks(
     *,
     progress: Progress | None = None,
 ) -> list[StepWalk]:
-    """Simulated walks (site × mode × seed) on each site's first route, each recorded as
-    a phone app records one (:func:`app_recording`)."""
+    """Simulated walks (site × mode × seed) on each site's first route, walked there and
+    back for :data:`STEP_WALK_S` (:func:`step_route`), each recorded as a phone app
+    records one (:func:`app_recording`)."""
     walks = []
     for spec in sites:
         site = load_site(generate(spec[0], seed=spec[1]) if isinstance(spec, tuple) else spec)
         label = f"generated {spec[0]} (seed {spec[1]})" if isinstance(spec, tuple) else spec
-        route = next(iter(site.scenario.routes))
+        route = step_route(site, next(iter(site.scenario.routes)))
         for mode, seed in itertools.product(modes, seeds):
             if progress:
                 progress(f"step walks {label} {mode} {seed}")

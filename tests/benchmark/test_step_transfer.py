@@ -14,6 +14,7 @@ from indoorsim.benchmark.step_transfer import (
     app_recording,
     count_steps,
     real_step_scores,
+    step_route,
     step_walk,
     tune_step_detector,
     write_step_transfer,
@@ -206,3 +207,17 @@ def test_a_simulated_walk_is_recorded_as_a_phone_app_records_one():
     ]
     modes = rec.truth["mode"].to_numpy()
     assert modes[0] == "handheld" and modes[-1] == "handheld" and "pocketed" in set(modes)
+
+
+def test_a_step_walk_goes_there_and_back_until_it_walks_as_long_as_a_real_one():
+    site = load_site("minimal_room")
+    name = next(iter(site.scenario.routes))
+    spec = step_route(site, name, seconds=60.0)
+    route = np.asarray(spec.waypoints)
+    once = np.asarray(site.scenario.routes[name].points(), dtype=float)
+    length = np.sum(np.linalg.norm(np.diff(route, axis=0), axis=1))
+    one_way = np.sum(np.linalg.norm(np.diff(once, axis=0), axis=1))
+    assert length >= 60.0 * spec.speed and length < 60.0 * spec.speed + one_way + 1e-9
+    # Out, back, out …: every second pass ends where the route starts.
+    assert np.allclose(route[0], once[0]) and np.allclose(route[len(once) - 1], once[-1])
+    assert np.allclose(route[2 * len(once) - 2], once[0])
