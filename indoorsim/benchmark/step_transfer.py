@@ -32,6 +32,7 @@ detectors' counting of a walk from their rejection of handling.
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from collections.abc import Callable, Sequence
@@ -133,6 +134,18 @@ class StepWalk:
         first, last, interval = self.true_span
         before, after = WALKING_MARGINS
         return first - before * interval, last + after * interval
+
+    @functools.cached_property
+    def handled_peak_mps2(self) -> float:
+        """The largest ‖a‖ outside :attr:`walking` (the phone handled, the walker
+        standing), m/s²; NaN without a walking span or without samples outside it."""
+        span = self.walking
+        if span is None:
+            return math.nan
+        outside = (self.t < span[0]) | (self.t > span[1])
+        if not outside.any():
+            return math.nan
+        return float(np.linalg.norm(self.accel[outside], axis=1).max())
 
     @property
     def handled_s(self) -> tuple[float, float]:
@@ -313,7 +326,8 @@ def _errors(
     """One row per walk: the steps counted over the whole recording (``detected``,
     ``error_pct``) and while it walks (``detected_walking``, ``error_walking_pct``), and
     how long the recording runs before and after the walk (``handled_before_s``,
-    ``handled_after_s``). Errors are NaN for a walk without true steps."""
+    ``handled_after_s``) and its largest ‖a‖ there (``handled_peak_mps2``). Errors are
+    NaN for a walk without true steps."""
     rows = []
     for w in walks:
         times = _step_times(w, detector, settings)
@@ -334,6 +348,7 @@ def _errors(
                 "error_walking_pct": 100.0 * (n_walking - w.true_steps) / true,
                 "handled_before_s": before,
                 "handled_after_s": after,
+                "handled_peak_mps2": w.handled_peak_mps2,
             }
         )
     return pd.DataFrame(rows)
@@ -437,6 +452,17 @@ def real_step_scores(
     return out
 
 
+def _peak_range(walks: pd.DataFrame, label: str) -> str:
+    """The pocketed walks' largest ‖a‖ outside the walk: 'lo–hi m/s² (median m, n walks)'."""
+    peaks = walks.loc[walks["mode"] == "pocketed", "handled_peak_mps2"].dropna()
+    if not len(peaks):
+        return f"({label}: none)"
+    return (
+        f"{peaks.min():.0f}–{peaks.max():.0f} m/s² (median {peaks.median():.0f}, "
+        f"{len(peaks)} walk{'' if len(peaks) == 1 else 's'})"
+    )
+
+
 def write_step_transfer(
     out: Path, best: dict[str, dict[str, float]], errors: pd.DataFrame
 ) -> list[str]:
@@ -502,6 +528,10 @@ def write_step_transfer(
             + ". In the simulated walks, where the hand takes the phone in 1.5 s and the "
             "walker then stands still, they report "
             + "; ".join(f"{name} {int(n.min())}–{int(n.max())}" for name, n in sim_outside)
+            + ". The handling jolts the phone: the largest ‖a‖ outside the walk, pocketed "
+            + _peak_range(handled, "real")
+            + ", simulated "
+            + _peak_range(errors[errors["source"] == "sim"].drop_duplicates("walk"), "sim")
             + ". Counted only while the walk walks (from "
             f"{before:g} of a true step interval before the first true step to {after:g} "
             "after the last, a span the reference device's steps give and a step counter "

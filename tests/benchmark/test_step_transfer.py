@@ -93,7 +93,7 @@ def test_every_detector_is_tuned_on_its_own_grid():
     }
 
 
-def _row(detector, source, walk, mode, error, walking_error, handled=(0.0, 0.0)):
+def _row(detector, source, walk, mode, error, walking_error, handled=(0.0, 0.0), peak=12.0):
     """One walk's row of the step-count table, 100 true steps."""
     return {
         "detector": detector,
@@ -107,6 +107,7 @@ def _row(detector, source, walk, mode, error, walking_error, handled=(0.0, 0.0))
         "error_walking_pct": walking_error,
         "handled_before_s": handled[0],
         "handled_after_s": handled[1],
+        "handled_peak_mps2": peak,
     }
 
 
@@ -118,9 +119,9 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
         ):
             # While walking, the handling before and after takes 5 points off.
             rows.append(
-                _row(detector, "real", f"w{k}", mode, error, error - 5.0, (1.0 + k, 4.0 + k))
+                _row(detector, "real", f"w{k}", mode, error, error - 5.0, (1.0 + k, 4.0 + k), 20.0)
             )
-        rows.append(_row(detector, "sim", "s", "handheld", 0.0, 0.0))
+        rows.append(_row(detector, "sim", "s", "pocketed", 0.0, 0.0, peak=30.0))
     errors = pd.DataFrame(rows)
     scores = real_step_scores(errors)
     # Peak-valley: median of |2|, |−4|, |10| is 4; handheld's median |error| 3, pocketed's 10.
@@ -135,6 +136,8 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
     assert "run on 1.0–3.0 s before the first true step and 4.0–6.0 s after" in text
     assert "peak-valley 5–5 a recording; trough 5–5 a recording" in text
     assert "they report peak-valley 0–0; trough 0–0." in text
+    # The pocketed walks' handling: one real walk at 20 m/s², one simulated at 30.
+    assert "pocketed 20–20 m/s² (median 20, 1 walk), simulated 30–30 m/s²" in text
     assert "trough median |error| 4.0 %, worst mode 6.0 %" in text
     assert (tmp_path / "sim_to_real_steps.csv").is_file()
 
