@@ -136,7 +136,8 @@ def carry(
 
     Raises:
         ScheduleError: for a schedule that is malformed or does not fit the
-            walk (a ``ValueError``).
+            walk, or a ``transition_s`` too short for a pocket's stroke and the
+            hand's reach (a ``ValueError``).
         UnknownModeError: for an unknown mode name (a ``KeyError``).
     """
     if not 0 < transition_s <= 10:
@@ -179,15 +180,18 @@ def carry(
         k = min(len(pose.pos), prev_i0 + len(prev.pos) - i0)
         a = slice(i0 - prev_i0, i0 - prev_i0 + k)
         tau = t[i0 : i0 + k] - t[i0]
-        pos[i0 : i0 + k], reach = handover(
-            tau,
-            transition_s,
-            (prev.pos[a], prev.rot[a], prev.stroke),
-            (pose.pos[:k], pose.rot[:k], pose.stroke),
-        )
-        # Light, shade and the label pass over the whole change (the label from its middle).
+        try:
+            pos[i0 : i0 + k], reach, lit = handover(
+                tau,
+                transition_s,
+                (prev.pos[a], prev.rot[a], prev.stroke),
+                (pose.pos[:k], pose.rot[:k], pose.stroke),
+            )
+        except ValueError as exc:
+            raise ScheduleError(f"schedule[{j}]: {exc}; give the change more time") from exc
+        light[i0 : i0 + k] = (1 - lit) * prev.light_exposure[a] + lit * pose.light_exposure[:k]
+        # The body's shade and the label pass over the whole change (the label from its middle).
         w = smootherstep(tau / transition_s)
-        light[i0 : i0 + k] = (1 - w) * prev.light_exposure[a] + w * pose.light_exposure[:k]
         shade[i0 : i0 + k] = (1 - w) * flags[j - 1] + w * flags[j]
         limbs.put_scalar_first(quat[i0 : i0 + k], _slerp(prev.rot[a], pose.rot[:k], reach))
         which[i0 : i0 + k] = np.where(w < 0.5, j - 1, j)

@@ -9,8 +9,8 @@ that holds the phone in a pocket adds a stroke (:class:`PocketStroke`): the
 phone slides in along its long axis and is stopped by the pocket's bottom,
 through the cloth and the flesh behind it, within a few hundredths of a second —
 the jolt real phones record as they are pocketed (the Oxford step-counter
-walks' front and back pockets read ‖a‖ peaks of 14–42 m/s² in the seconds
-before the first step) — and slides out by the same stroke run backwards: the
+walks' front and back pockets read ‖a‖ peaks of 10–42 m/s², median 22, in the
+seconds before the first step) — and slides out by the same stroke run backwards: the
 pull starts with a jerk as the hand's grip overcomes the cloth's hold, and
 slows as the phone clears the mouth.
 
@@ -48,7 +48,7 @@ deceleration is a half-cosine pulse of peak π·v/(2·stop), 12–38 m/s² over 
 range and the speed's [E]."""
 
 
-@dataclass(frozen=True, kw_only=True)
+@dataclass(frozen=True, kw_only=True, eq=False)
 class PocketStroke:
     """How the phone slides into the place that holds it, and out of it.
 
@@ -71,6 +71,10 @@ class PocketStroke:
                 f"a stroke of {self.depth_m} m at {self.speed_mps} m/s stopped in "
                 f"{self.stop_s} s: all must be positive and the stroke long enough to "
                 "reach its speed and stop"
+            )
+        if np.shape(self.axis) != (3,):
+            raise ValueError(
+                f"the stroke's axis must be a 3-vector, got shape {np.shape(self.axis)}"
             )
         norm = float(np.linalg.norm(self.axis))
         if not math.isclose(norm, 1.0, abs_tol=1e-9):
@@ -97,7 +101,8 @@ def stroke_depth(tau: NDArray[np.float64], stroke: PocketStroke) -> NDArray[np.f
 
     The speed rises by smootherstep over :data:`STROKE_RISE_S`, holds, and falls to
     zero over ``stop_s`` as a half cosine; the depth is its integral in closed form:
-    0 before the stroke, ``depth_m`` from its end on, C¹ throughout.
+    0 before the stroke, ``depth_m`` from its end on, C² throughout (the acceleration
+    is zero at every joint of the phases).
     """
     tau = np.asarray(tau, dtype=float)
     v, rise, stop = stroke.speed_mps, STROKE_RISE_S, stroke.stop_s
@@ -108,7 +113,8 @@ def stroke_depth(tau: NDArray[np.float64], stroke: PocketStroke) -> NDArray[np.f
     holding = v * np.clip(tau - rise, 0.0, cruise)
     u = np.clip((tau - rise - cruise) / stop, 0.0, 1.0)
     stopping = 0.5 * v * stop * (u + np.sin(np.pi * u) / np.pi)
-    return np.minimum(rising + holding + stopping, stroke.depth_m)
+    # The sum can fall a rounding step short of the depth at the end: the end is exact.
+    return np.where(tau >= stroke.duration_s, stroke.depth_m, rising + holding + stopping)
 
 
 def handover(
@@ -116,9 +122,11 @@ def handover(
     span_s: float,
     old: tuple[NDArray[np.float64], Rotation, PocketStroke | None],
     new: tuple[NDArray[np.float64], Rotation, PocketStroke | None],
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Where the hand has the phone ``tau`` s into a change of place that takes ``span_s``,
-    and how far its reach has gone (0 → 1, the weight the orientation's slerp takes).
+    how far its reach has gone (0 → 1, the weight the orientation's slerp takes), and
+    how far it has left the old place's light for the new one's (0 → 1): out of a
+    pocket as it comes out, into one as it goes in, over the span otherwise.
 
     ``old`` and ``new`` are each place's (positions, rotations, stroke) at the same
     samples: where each mode would hold the phone, and its pocket's stroke (None for
@@ -139,12 +147,15 @@ def handover(
             f"pockets' strokes take {out_s + in_s:.3f} s"
         )
     w = smootherstep((tau - out_s) / reach_s)
+    light = smootherstep(tau / span_s)
     if old_stroke is not None:
         # Out of the pocket: the stroke run backwards, from the bottom to the mouth.
         out = old_stroke.depth_m - stroke_depth(out_s - tau, old_stroke)
         old_pos = old_pos + out[:, None] * old_rot.apply(-old_stroke.axis)
+        light = out / old_stroke.depth_m
     if new_stroke is not None:
         # Held over the mouth until the reach is done, then pushed in.
         left = new_stroke.depth_m - stroke_depth(tau - out_s - reach_s, new_stroke)
         new_pos = new_pos + left[:, None] * new_rot.apply(-new_stroke.axis)
-    return (1 - w)[:, None] * old_pos + w[:, None] * new_pos, w
+        light = 1.0 - left / new_stroke.depth_m if old_stroke is None else w
+    return (1 - w)[:, None] * old_pos + w[:, None] * new_pos, w, light

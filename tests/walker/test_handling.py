@@ -17,6 +17,7 @@ from indoorsim.walker.handling import (
     handover,
     stroke_depth,
 )
+from indoorsim.walker.schedule import ScheduleError
 
 STROKE = PocketStroke(axis=np.array([0.0, 1.0, 0.0]), depth_m=0.12, speed_mps=0.4, stop_s=0.03)
 
@@ -44,6 +45,7 @@ def test_a_stroke_goes_the_pockets_depth_at_its_speed_and_stops_as_a_half_cosine
         (0.12, -0.4, 0.03, (0, 1, 0), "positive"),
         (0.01, 0.6, 0.03, (0, 1, 0), "long enough"),
         (0.12, 0.4, 0.03, (0, 2, 0), "unit vector"),
+        (0.12, 0.4, 0.03, (0, 1), "3-vector"),
     ],
 )
 def test_an_impossible_stroke_is_refused(depth, speed, stop, axis, match):
@@ -62,9 +64,9 @@ def _places(n: int) -> tuple[np.ndarray, Rotation, np.ndarray, Rotation]:
 def test_without_a_pocket_the_change_is_one_minimum_jerk_reach():
     tau = np.linspace(0.0, 1.5, 301)
     hand, flat, other, turned = _places(len(tau))
-    pos, reach = handover(tau, 1.5, (hand, flat, None), (other, turned, None))
+    pos, reach, light = handover(tau, 1.5, (hand, flat, None), (other, turned, None))
     w = smootherstep(tau / 1.5)
-    assert np.array_equal(reach, w)
+    assert np.array_equal(reach, w) and np.array_equal(light, w)
     assert np.array_equal(pos, (1 - w)[:, None] * hand + w[:, None] * other)
 
 
@@ -73,25 +75,28 @@ def test_into_a_pocket_the_hand_reaches_its_mouth_and_pushes_the_phone_in():
     hand, flat, pocket, upright = _places(len(tau))
     # Upright in the pocket (its top, +y, up): it goes in bottom first, along −y.
     stroke = PocketStroke(axis=np.array([0.0, -1.0, 0.0]), depth_m=0.12, speed_mps=0.4, stop_s=0.03)
-    pos, reach = handover(tau, 1.5, (hand, flat, None), (pocket, upright, stroke))
+    pos, reach, light = handover(tau, 1.5, (hand, flat, None), (pocket, upright, stroke))
     reach_s = 1.5 - stroke.duration_s
     assert np.allclose(pos[0], hand[0]) and np.allclose(pos[-1], pocket[0])
     # At the end of the reach the phone is over the mouth, 0.12 m up the thigh.
     mouth = np.searchsorted(tau, reach_s)
     assert reach[mouth] == pytest.approx(1.0, abs=1e-6)
     assert pos[mouth] == pytest.approx(pocket[0] + [0.0, 0.0, 0.12], abs=1e-4)
-    # Then it goes straight down into the pocket and stops.
+    # Then it goes straight down into the pocket and stops; it is dark once in.
     assert np.allclose(pos[mouth:, :2], pocket[0, :2])
     assert np.all(np.diff(pos[mouth:, 2]) <= 1e-12)
+    assert np.all(light[: mouth + 1] == 0.0) and light[-1] == 1.0
+    assert np.allclose(light[mouth:], (0.8 + 0.12 - pos[mouth:, 2]) / 0.12)
 
 
 def test_out_of_a_pocket_is_the_stroke_run_backwards_then_the_reach():
     tau = np.linspace(0.0, 1.5, 3001)
     hand, flat, pocket, upright = _places(len(tau))
-    into = handover(tau, 1.5, (hand, flat, None), (pocket, upright, STROKE))[0]
-    out = handover(1.5 - tau, 1.5, (pocket, upright, STROKE), (hand, flat, None))[0]
-    # The same path, walked the other way in time.
+    into, _, dark = handover(tau, 1.5, (hand, flat, None), (pocket, upright, STROKE))
+    out, _, lit = handover(1.5 - tau, 1.5, (pocket, upright, STROKE), (hand, flat, None))
+    # The same path, walked the other way in time, and the light the other way round.
     assert np.allclose(out, into, atol=1e-12)
+    assert np.allclose(lit, 1.0 - dark, atol=1e-12)
 
 
 def test_strokes_that_leave_no_time_to_reach_are_refused():
@@ -115,6 +120,27 @@ def test_pocketing_a_phone_jolts_it_as_real_pocketed_phones_are(straight_body):
         changing = (phone.t > 2.0) & (phone.t < 3.5)
         peaks.append(np.linalg.norm(acc[changing], axis=1).max())
     assert 10.0 < min(peaks) and max(peaks) < 45.0
+
+
+def test_the_phone_goes_down_into_the_pocket(straight_body):
+    """Standing (the first step is at 3.8 s), the phone put into the pocket from 1.5 s
+    goes down the thigh in the stroke's last tenth of a second (every stroke takes
+    more than 0.23 s): the pocket's mouth is above its bottom."""
+    schedule = [(0.0, "handheld"), (1.5, "pocketed")]
+    for seed in range(6):
+        phone = carry(straight_body, schedule, np.random.default_rng(seed))
+        last = (phone.t > 2.9) & (phone.t < 3.0)
+        assert np.all(np.diff(phone.pos[last, 2]) < 0.0)
+
+
+def test_a_change_too_quick_for_the_pockets_stroke_is_refused(straight_body):
+    with pytest.raises(ScheduleError, match=r"schedule\[1\]: .*no time to reach"):
+        carry(
+            straight_body,
+            [(0.0, "handheld"), (1.0, "pocketed")],
+            np.random.default_rng(0),
+            transition_s=0.2,
+        )
 
 
 def test_a_drawn_stroke_lies_in_its_ranges():
