@@ -104,9 +104,10 @@ STEP_SEEDS = (0, 1, 2)
 STEP_DEVICE = "mid_grade"
 """A generic phone at 100 Hz, as the Oxford walks' phones log."""
 STEP_WALK_S = 170.0
-"""How long each simulated walk walks, at least, s: as long as the Oxford recordings
-walk (their 257–361 true steps at 1.7–1.9 steps/s, 140–200 s), so that the phone's
-handling before and after weighs in a simulated walk's count as in a real one's."""
+"""How long each simulated walk walks at its route's speed, s: as long as the Oxford
+recordings walk (their 257–361 true steps at 1.7–1.9 steps/s, 140–200 s), so that the
+phone's handling before and after weighs in a simulated walk's count as in a real
+one's."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -189,18 +190,24 @@ walker has come to a halt."""
 
 
 def step_route(site: Site, route: str, seconds: float = STEP_WALK_S) -> RouteSpec:
-    """``route`` of ``site`` walked there and back, and on, until its waypoints run for
-    ``seconds`` at its speed (a little over: the last pass is whole)."""
+    """``route`` of ``site`` walked there and back, and on, for ``seconds`` at its speed:
+    its waypoints cut where that distance is reached. (Turning round at each end and the
+    turns on the way take the walker a little longer.)"""
     planned = resolve_route(site, route)
     forward = [(float(x), float(y)) for x, y in planned.points]
-    length = float(np.sum(np.linalg.norm(np.diff(planned.points, axis=0), axis=1)))
     passes = (forward[::-1][1:], forward[1:])  # back to the start, out to the end again
-    way, walked, k = list(forward), length, 0
-    while walked < seconds * planned.speed:
+    way, k = list(forward), 0
+    goal = seconds * planned.speed
+    while float(np.sum(np.linalg.norm(np.diff(way, axis=0), axis=1))) < goal:
         way += passes[k % 2]
-        walked += length
         k += 1
-    return RouteSpec(waypoints=way, speed=planned.speed)
+    # Cut the last leg where the walked distance reaches the goal.
+    legs = np.linalg.norm(np.diff(way, axis=0), axis=1)
+    walked = np.concatenate([[0.0], np.cumsum(legs)])
+    j = int(np.searchsorted(walked, goal))  # the first point at or past the goal
+    a, b = np.asarray(way[j - 1]), np.asarray(way[j])
+    end = a + (goal - walked[j - 1]) / legs[j - 1] * (b - a)
+    return RouteSpec(waypoints=[*way[:j], (float(end[0]), float(end[1]))], speed=planned.speed)
 
 
 def app_recording(site: Site, route: str | RouteSpec, mode: str, seed: int) -> ScheduleLike:
@@ -525,8 +532,9 @@ def write_step_transfer(
             "after the last (the phone put into the pocket or bag and taken out, the "
             "walker standing), and the detectors report steps there: "
             + "; ".join(f"{name} {int(n.min())}–{int(n.max())} a recording" for name, n in outside)
-            + ". In the simulated walks, where the hand takes the phone in 1.5 s and the "
-            "walker then stands still, they report "
+            + ". In the simulated walks, where the hand takes the phone over 1.5 s before "
+            "the first step and after the last and the walker otherwise stands still, they "
+            "report "
             + "; ".join(f"{name} {int(n.min())}–{int(n.max())}" for name, n in sim_outside)
             + ". The handling jolts the phone: the largest ‖a‖ outside the walk, pocketed "
             + _peak_range(handled, "real")
