@@ -45,9 +45,11 @@ carrying modes with changes, each walk with the vigour of one real walker
 traces the real-trace table scores, so their vigour, though never their sensor
 data, is seen in training), the IMU at 50 Hz in 2 s windows every 1 s: 80 427
 windows, 72 sites to train on, 9 to validate, 9 to test. Final losses of the
-members (m²/s², mean of both velocity components): train 0.0332–0.0336, val
-0.0315–0.0323, test 0.0421–0.0452 — an RMS velocity error of about 0.21 m/s per
-axis on the test buildings. Training is deterministic on CPU: the commands give
+members (m²/s², mean of both velocity components): train 0.0331–0.0335, val
+0.0313–0.0328, test 0.0426–0.0457 — an RMS velocity error of about 0.21 m/s per
+axis on the test buildings. (Retrained when a change of carrying mode became the
+hand's reach with a pocket's stroke, :mod:`indoorsim.walker.handling`: the walks'
+mode changes, one every two minutes, moved.) Training is deterministic on CPU: the commands give
 the same ``weights.pt`` bytes for the same ``--threads`` and ``--workers`` (add
 ``--overwrite`` to retrain in place; the packaged members were written to a
 scratch folder, which their ``ensemble.json`` names, and copied here).
