@@ -539,7 +539,7 @@ def write_step_transfer(
             + ". The handling jolts the phone: the largest ‖a‖ outside the walk, pocketed "
             + _peak_range(handled, "real")
             + ", simulated "
-            + _peak_range(errors[errors["source"] == "sim"].drop_duplicates("walk"), "sim")
+            + _peak_range(sim.drop_duplicates(["walk", "mode"]), "sim")
             + ". Counted only while the walk walks (from "
             f"{before:g} of a true step interval before the first true step to {after:g} "
             "after the last, a span the reference device's steps give and a step counter "

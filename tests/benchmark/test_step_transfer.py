@@ -121,6 +121,8 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
             rows.append(
                 _row(detector, "real", f"w{k}", mode, error, error - 5.0, (1.0 + k, 4.0 + k), 20.0)
             )
+        # A simulated walk's name is its site and seed, the same in every mode.
+        rows.append(_row(detector, "sim", "s", "handheld", 0.0, 0.0, peak=15.0))
         rows.append(_row(detector, "sim", "s", "pocketed", 0.0, 0.0, peak=30.0))
     errors = pd.DataFrame(rows)
     scores = real_step_scores(errors)
