@@ -10,9 +10,10 @@ phone slides in along its long axis and is stopped by the pocket's bottom,
 through the cloth and the flesh behind it, within a few hundredths of a second —
 the jolt real phones record as they are pocketed (the Oxford step-counter
 walks' front and back pockets read ‖a‖ peaks of 10–42 m/s², median 22, in the
-seconds before the first step) — and slides out by the same stroke run backwards: the
-pull starts with a jerk as the hand's grip overcomes the cloth's hold, and
-slows as the phone clears the mouth.
+seconds around their walks; the simulated walks of ``leaderboards/sim_to_real.md``,
+pocketed from the hand and back, 27–35, median 30) — and slides out by the same
+stroke run backwards: the pull starts with a jerk as the hand's grip overcomes the
+cloth's hold, and slows as the phone clears the mouth.
 
 Timeline of a change over ``transition_s``: the stroke out of the old place
 (if it is a pocket), the reach, the stroke into the new place (if it is one).
