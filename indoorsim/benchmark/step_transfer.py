@@ -148,6 +148,24 @@ class StepWalk:
             return math.nan
         return float(np.linalg.norm(self.accel[outside], axis=1).max())
 
+    @functools.cached_property
+    def handled_motion_mps2(self) -> float:
+        """How much the phone moves outside :attr:`walking`: the median, over 1 s windows
+        (half overlapping, within the stretch before the walk and the one after), of
+        ‖a‖'s standard deviation, m/s²; NaN without a walking span or a whole window
+        outside it."""
+        span = self.walking
+        if span is None or len(self.t) < 2:
+            return math.nan
+        n = max(2, round(1.0 / float(np.median(np.diff(self.t)))))
+        norm = np.linalg.norm(self.accel, axis=1)
+        stds = [
+            float(np.std(x[i : i + n]))
+            for x in (norm[self.t < span[0]], norm[self.t > span[1]])
+            for i in range(0, len(x) - n + 1, n // 2)
+        ]
+        return float(np.median(stds)) if stds else math.nan
+
     @property
     def handled_s(self) -> tuple[float, float]:
         """How long the recording runs before the first true step and after the last, s."""
@@ -333,8 +351,9 @@ def _errors(
     """One row per walk: the steps counted over the whole recording (``detected``,
     ``error_pct``) and while it walks (``detected_walking``, ``error_walking_pct``), and
     how long the recording runs before and after the walk (``handled_before_s``,
-    ``handled_after_s``) and its largest ‖a‖ there (``handled_peak_mps2``). Errors are
-    NaN for a walk without true steps."""
+    ``handled_after_s``), its largest ‖a‖ there (``handled_peak_mps2``) and how much the
+    phone moves there (``handled_motion_mps2``). Errors are NaN for a walk without true
+    steps."""
     rows = []
     for w in walks:
         times = _step_times(w, detector, settings)
@@ -356,6 +375,7 @@ def _errors(
                 "handled_before_s": before,
                 "handled_after_s": after,
                 "handled_peak_mps2": w.handled_peak_mps2,
+                "handled_motion_mps2": w.handled_motion_mps2,
             }
         )
     return pd.DataFrame(rows)
@@ -459,14 +479,14 @@ def real_step_scores(
     return out
 
 
-def _peak_range(walks: pd.DataFrame, label: str) -> str:
-    """The pocketed walks' largest ‖a‖ outside the walk: 'lo–hi m/s² (median m, n walks)'."""
-    peaks = walks.loc[walks["mode"] == "pocketed", "handled_peak_mps2"].dropna()
-    if not len(peaks):
+def _pocketed_range(walks: pd.DataFrame, column: str, label: str, digits: int = 0) -> str:
+    """The pocketed walks' ``column``: 'lo–hi m/s² (median m, n walks)'."""
+    values = walks.loc[walks["mode"] == "pocketed", column].dropna()
+    if not len(values):
         return f"({label}: none)"
     return (
-        f"{peaks.min():.0f}–{peaks.max():.0f} m/s² (median {peaks.median():.0f}, "
-        f"{len(peaks)} walk{'' if len(peaks) == 1 else 's'})"
+        f"{values.min():.{digits}f}–{values.max():.{digits}f} m/s² (median "
+        f"{values.median():.{digits}f}, {len(values)} walk{'' if len(values) == 1 else 's'})"
     )
 
 
@@ -481,6 +501,7 @@ def write_step_transfer(
     outside = (real["detected"] - real["detected_walking"]).groupby(real["detector"], sort=False)
     sim = errors[errors["source"] == "sim"]
     sim_outside = (sim["detected"] - sim["detected_walking"]).groupby(sim["detector"], sort=False)
+    sim_walks = sim.drop_duplicates(["walk", "mode"])  # a simulated walk is named for its site
     lines = [
         "## Step counts: detectors tuned on simulated walks, on real ones",
         "",
@@ -537,10 +558,15 @@ def write_step_transfer(
             "report "
             + "; ".join(f"{name} {int(n.min())}–{int(n.max())}" for name, n in sim_outside)
             + ". The handling jolts the phone: the largest ‖a‖ outside the walk, pocketed "
-            + _peak_range(handled, "real")
+            + _pocketed_range(handled, "handled_peak_mps2", "real")
             + ", simulated "
-            + _peak_range(sim.drop_duplicates(["walk", "mode"]), "sim")
-            + ". Counted only while the walk walks (from "
+            + _pocketed_range(sim_walks, "handled_peak_mps2", "sim")
+            + "; and the phone moves there — the median over 1 s windows of ‖a‖'s std, "
+            "pocketed "
+            + _pocketed_range(handled, "handled_motion_mps2", "real", 2)
+            + ", simulated "
+            + _pocketed_range(sim_walks, "handled_motion_mps2", "sim", 2)
+            + " (a still pocket: sensor noise, ≈ 0.015). Counted only while the walk walks (from "
             f"{before:g} of a true step interval before the first true step to {after:g} "
             "after the last, a span the reference device's steps give and a step counter "
             "does not know), the same detectors read: "

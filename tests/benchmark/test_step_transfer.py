@@ -93,7 +93,9 @@ def test_every_detector_is_tuned_on_its_own_grid():
     }
 
 
-def _row(detector, source, walk, mode, error, walking_error, handled=(0.0, 0.0), peak=12.0):
+def _row(
+    detector, source, walk, mode, error, walking_error, handled=(0.0, 0.0), peak=12.0, motion=0.5
+):
     """One walk's row of the step-count table, 100 true steps."""
     return {
         "detector": detector,
@@ -108,6 +110,7 @@ def _row(detector, source, walk, mode, error, walking_error, handled=(0.0, 0.0),
         "handled_before_s": handled[0],
         "handled_after_s": handled[1],
         "handled_peak_mps2": peak,
+        "handled_motion_mps2": motion,
     }
 
 
@@ -123,7 +126,7 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
             )
         # A simulated walk's name is its site and seed, the same in every mode.
         rows.append(_row(detector, "sim", "s", "handheld", 0.0, 0.0, peak=15.0))
-        rows.append(_row(detector, "sim", "s", "pocketed", 0.0, 0.0, peak=30.0))
+        rows.append(_row(detector, "sim", "s", "pocketed", 0.0, 0.0, peak=30.0, motion=0.25))
     errors = pd.DataFrame(rows)
     scores = real_step_scores(errors)
     # Peak-valley: median of |2|, |−4|, |10| is 4; handheld's median |error| 3, pocketed's 10.
@@ -140,6 +143,7 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
     assert "they report peak-valley 0–0; trough 0–0." in text
     # The pocketed walks' handling: one real walk at 20 m/s², one simulated at 30.
     assert "pocketed 20–20 m/s² (median 20, 1 walk), simulated 30–30 m/s²" in text
+    assert "pocketed 0.50–0.50 m/s² (median 0.50, 1 walk), simulated 0.25–0.25 m/s²" in text
     assert "trough median |error| 4.0 %, worst mode 6.0 %" in text
     assert (tmp_path / "sim_to_real_steps.csv").is_file()
 
@@ -169,6 +173,9 @@ def test_a_recording_counts_the_handling_and_the_walking_span_does_not(detector)
         true_span=(0.0, 60.0 - period, period),
     )
     assert framed.handled_s == pytest.approx((10.0, 10.0 + period), abs=0.02)
+    # The jiggle's std, 1.5/√2 m/s², in every whole second outside the walk (to a few
+    # per cent: a second holds one and a half of its cycles).
+    assert framed.handled_motion_mps2 == pytest.approx(1.5 / np.sqrt(2), rel=0.05)
     assert count_steps(framed, detector, while_walking=True) == pytest.approx(
         walk.true_steps, abs=2
     )
