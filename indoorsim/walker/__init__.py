@@ -6,6 +6,9 @@
   which ties the stages into a :class:`~indoorsim.walker.gait.BodyTrajectory`;
 * :mod:`~indoorsim.walker.physics` — the body as a pymunk disc steered against the walls;
 * :mod:`~indoorsim.walker.motion` — intra-step motion: bounce, sway, trunk yaw, heel strikes;
-* :mod:`~indoorsim.walker.carry_modes` — the phone's pose in each built-in carrying mode;
+* :mod:`~indoorsim.walker.carry_modes` — the phone's pose in each built-in carrying mode
+  (the pocket's in :mod:`~indoorsim.walker.pocketed`);
+* :mod:`~indoorsim.walker.handling` — the hand moving the phone from one mode's place
+  to the next's;
 * :mod:`~indoorsim.walker.carry` — :func:`carry`, the phone through a schedule of modes.
 """

@@ -51,6 +51,11 @@ PHONE_MASS_FRACTION = 0.0026
 """A phone of ≈ 0.18 kg on a 70 kg body."""
 
 
+def body_side(which: str) -> float:
+    """+1 for the left side of the body (its +y), −1 for the right."""
+    return 1.0 if which == "left" else -1.0
+
+
 def shoulder_joint(height_m: float, side: float) -> NDArray[np.float64]:
     """The shoulder joint on ``side`` (+1 left, −1 right) in the body frame, from the
     pelvis, m."""

@@ -1,7 +1,7 @@
 """Normal gait's hip and pelvis angles over a gait cycle, as periodic splines.
 
 The pocketed phone's thigh turns at the hip in three planes
-(:class:`~indoorsim.walker.carry_modes.Pocketed`): flexion, rotation about the
+(:class:`~indoorsim.walker.pocketed.Pocketed`): flexion, rotation about the
 thigh, and the pelvis's sideways list. Each curve is a function of the gait
 cycle's phase in [0, 1) from that side's heel strike, scaled to ±1; a mode
 scales it by its drawn amplitude.
