@@ -137,32 +137,35 @@ class StepWalk:
         return first - before * interval, last + after * interval
 
     @functools.cached_property
+    def _handled_norms(self) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+        """‖a‖ before :attr:`walking` and after it; None without a walking span."""
+        span = self.walking
+        if span is None:
+            return None
+        norm = np.linalg.norm(self.accel, axis=1)
+        return norm[self.t < span[0]], norm[self.t > span[1]]
+
+    @property
     def handled_peak_mps2(self) -> float:
         """The largest ‖a‖ outside :attr:`walking` (the phone handled, the walker
         standing), m/s²; NaN without a walking span or without samples outside it."""
-        span = self.walking
-        if span is None:
+        stretches = self._handled_norms
+        if stretches is None or not any(len(x) for x in stretches):
             return math.nan
-        outside = (self.t < span[0]) | (self.t > span[1])
-        if not outside.any():
-            return math.nan
-        return float(np.linalg.norm(self.accel[outside], axis=1).max())
+        return float(max(x.max() for x in stretches if len(x)))
 
-    @functools.cached_property
+    @property
     def handled_motion_mps2(self) -> float:
         """How much the phone moves outside :attr:`walking`: the median, over 1 s windows
         (half overlapping, within the stretch before the walk and the one after), of
         ‖a‖'s standard deviation, m/s²; NaN without a walking span or a whole window
         outside it."""
-        span = self.walking
-        if span is None or len(self.t) < 2:
+        stretches = self._handled_norms
+        if stretches is None or len(self.t) < 2:
             return math.nan
         n = max(2, round(1.0 / float(np.median(np.diff(self.t)))))
-        norm = np.linalg.norm(self.accel, axis=1)
         stds = [
-            float(np.std(x[i : i + n]))
-            for x in (norm[self.t < span[0]], norm[self.t > span[1]])
-            for i in range(0, len(x) - n + 1, n // 2)
+            float(np.std(x[i : i + n])) for x in stretches for i in range(0, len(x) - n + 1, n // 2)
         ]
         return float(np.median(stds)) if stds else math.nan
 
@@ -214,15 +217,14 @@ def step_route(site: Site, route: str, seconds: float = STEP_WALK_S) -> RouteSpe
     planned = resolve_route(site, route)
     forward = [(float(x), float(y)) for x, y in planned.points]
     passes = (forward[::-1][1:], forward[1:])  # back to the start, out to the end again
-    way, k = list(forward), 0
     goal = seconds * planned.speed
-    while float(np.sum(np.linalg.norm(np.diff(way, axis=0), axis=1))) < goal:
+    way = list(forward)
+    for k in range(math.ceil(goal / planned.length) - 1):
         way += passes[k % 2]
-        k += 1
     # Cut the last leg where the walked distance reaches the goal.
     legs = np.linalg.norm(np.diff(way, axis=0), axis=1)
     walked = np.concatenate([[0.0], np.cumsum(legs)])
-    j = int(np.searchsorted(walked, goal))  # the first point at or past the goal
+    j = min(int(np.searchsorted(walked, goal)), len(way) - 1)  # first point at or past it
     a, b = np.asarray(way[j - 1]), np.asarray(way[j])
     end = a + (goal - walked[j - 1]) / legs[j - 1] * (b - a)
     return RouteSpec(waypoints=[*way[:j], (float(end[0]), float(end[1]))], speed=planned.speed)

@@ -66,8 +66,8 @@ class PocketStroke:
     stop_s: float
 
     def __post_init__(self) -> None:
-        cruise = self.depth_m / self.speed_mps - 0.5 * (STROKE_RISE_S + self.stop_s)
-        if not (self.depth_m > 0 and self.speed_mps > 0 and self.stop_s > 0 and cruise >= 0):
+        positive = self.depth_m > 0 and self.speed_mps > 0 and self.stop_s > 0
+        if not (positive and self.duration_s >= STROKE_RISE_S + self.stop_s):
             raise ValueError(
                 f"a stroke of {self.depth_m} m at {self.speed_mps} m/s stopped in "
                 f"{self.stop_s} s: all must be positive and the stroke long enough to "
