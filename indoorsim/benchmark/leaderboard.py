@@ -348,7 +348,8 @@ def step_count_table(
     """The step detector of Han2023 (§2.1.1) on the real Oxford step-counter walks.
 
     One row per walk and minimum peak interval: detected steps against the
-    reference device's count, for each carrying position. The whole walk is fed
+    reference device's steps (checked: :func:`~indoorsim.io.reallogs.oxford.foot_contacts`),
+    for each carrying position. The whole walk is fed
     to the streaming detector in one piece.
     """
     rows = []
@@ -385,8 +386,10 @@ def write_step_counts(
         "",
         "Han2023's peak/valley detector (low-pass, minimum interval between extrema) "
         "on the accelerometer of each walk (CC BY 4.0, `shared/realdata/oxford-stepcounter`), "
-        "against the reference device's count. Error in % of the true steps, per "
-        "carrying position and minimum interval.",
+        "against the reference device's steps, its switches' bounces dropped and missed "
+        "contacts added (`indoorsim.io.reallogs.oxford.foot_contacts`; `sim_to_real.md` "
+        "gives the device's own counts). Error in % of the true steps, per carrying "
+        "position and minimum interval.",
         "",
         "| position | min interval (s) | walks | mean error % | min % | max % |",
         "|---|---|---|---|---|---|",

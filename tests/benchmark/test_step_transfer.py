@@ -94,15 +94,27 @@ def test_every_detector_is_tuned_on_its_own_grid():
 
 
 def _row(
-    detector, source, walk, mode, error, walking_error, handled=(0.0, 0.0), peak=12.0, motion=0.5
+    detector,
+    source,
+    walk,
+    mode,
+    error,
+    walking_error,
+    handled=(0.0, 0.0),
+    peak=12.0,
+    motion=0.5,
+    device=100,
 ):
-    """One walk's row of the step-count table, 100 true steps."""
+    """One walk's row of the step-count table, 100 true steps (``device`` by the
+    reference device's unchecked count)."""
     return {
         "detector": detector,
         "source": source,
         "walk": walk,
         "mode": mode,
         "true_steps": 100,
+        "device_steps": device,
+        "error_device_pct": 100.0 * (100 + error - device) / device,
         "detected": 100 + error,
         "error_pct": error,
         "detected_walking": 100 + walking_error,
@@ -121,8 +133,19 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
             zip(("handheld", "handheld", "pocketed"), real_errors, strict=True)
         ):
             # While walking, the handling before and after takes 5 points off.
+            # The pocketed walk's device counted 110: its check took 10 off.
             rows.append(
-                _row(detector, "real", f"w{k}", mode, error, error - 5.0, (1.0 + k, 4.0 + k), 20.0)
+                _row(
+                    detector,
+                    "real",
+                    f"w{k}",
+                    mode,
+                    error,
+                    error - 5.0,
+                    handled=(1.0 + k, 4.0 + k),
+                    peak=20.0,
+                    device=110 if mode == "pocketed" else 100,
+                )
             )
         # A simulated walk's name is its site and seed, the same in every mode.
         rows.append(_row(detector, "sim", "s", "handheld", 0.0, 0.0, peak=15.0))
@@ -145,6 +168,12 @@ def test_the_section_gives_each_detector_its_setting_and_real_scores(tmp_path):
     assert "pocketed 20–20 m/s² (median 20, 1 walk), simulated 30–30 m/s²" in text
     assert "pocketed 0.50–0.50 m/s² (median 0.50, 1 walk), simulated 0.25–0.25 m/s²" in text
     assert "trough median |error| 4.0 %, worst mode 6.0 %" in text
+    # Against the device's own count: peak-valley 2, -4, 0 %; trough 1, 1, -10 %.
+    assert "w2 110 → 100; the other 2 unchanged" in text
+    assert (
+        "peak-valley median |error| 2.0 %, worst mode 3.0 %; trough median |error| 1.0 %, "
+        "worst mode 10.0 % (`error_device_pct`" in text
+    )
     assert (tmp_path / "sim_to_real_steps.csv").is_file()
 
 

@@ -21,6 +21,7 @@ from indoorsim.io.reallogs import (
     read_oxford_validation,
     read_sensor_logger,
 )
+from indoorsim.io.reallogs.oxford import BOUNCE_STRIDES, MISSED_STRIDES, foot_contacts
 from indoorsim.io.recording import Recording, RecordingError
 from tests.conftest import REALDATA
 
@@ -158,26 +159,78 @@ def _upstream_steps() -> dict[str, int]:
 
 
 @pytest.mark.parametrize(
-    ("folder", "steps", "mode", "rate_hz"),
-    [  # steps: the table in realdata/oxford-stepcounter/README.md
-        ("Pixel_Jamie_Hard_InHand_1", 292, "handheld", 405),
-        ("Pixel_Jamie_Hard_SwingingArm_1", 284, "dangling", 405),
-        ("Samsung_Dario_Hard_FrontPocket_1", 306, "pocketed", 205),
-        ("Samsung_Carmelo_Hard_Purse_1", 288, "Purse", 205),
+    ("folder", "device_steps", "steps", "mode", "rate_hz"),
+    [  # device_steps: the table in realdata/oxford-stepcounter/README.md
+        ("Pixel_Jamie_Hard_InHand_1", 292, 292, "handheld", 405),
+        ("Pixel_Jamie_Hard_SwingingArm_1", 284, 264, "dangling", 405),
+        ("Samsung_Dario_Hard_FrontPocket_1", 306, 315, "pocketed", 205),
+        ("Samsung_Carmelo_Hard_Purse_1", 288, 288, "Purse", 205),
     ],
 )
-def test_oxford_folder_step_count_matches_upstream(
-    folder: str, steps: int, mode: str, rate_hz: float
+def test_oxford_folder_steps_are_the_devices_checked(
+    folder: str, device_steps: int, steps: int, mode: str, rate_hz: float
 ):
     rec = Recording.load(_needs(OXFORD / "optimisation" / folder))
-    assert len(rec.steps) == steps == _upstream_steps()[folder] == rec.meta["ground_truth_steps"]
-    assert sum(rec.meta["channel_steps"]) == len(rec.steps)
+    assert rec.meta["device_steps"] == device_steps == _upstream_steps()[folder]
+    assert sum(rec.meta["channel_steps"]) == device_steps
+    # The check: bounces dropped, missed contacts added (foot_contacts).
+    assert len(rec.steps) == steps == rec.meta["ground_truth_steps"]
+    bounces, missed = rec.meta["switch_bounces"], rec.meta["missed_contacts"]
+    assert steps == device_steps - bounces + missed
+    assert missed == rec.steps["inferred"].sum()
     assert set(rec.steps["channel"]) == {1, 2}
     assert rec.steps["foot"].isna().all() and rec.steps["length"].isna().all()
     assert rec.meta["mode"] == mode
     assert rec.meta["rates_hz"]["accel"] == pytest.approx(rate_hz, rel=0.03)
     assert 9.5 < _norms(rec.accel, ["x", "y", "z"]).mean() < 11.5
     assert rec.steps.index[0] > 0 and rec.steps.index[-1] <= rec.accel.index[-1] + 0.1
+
+
+def _alternating(n: int, step_s: float = 0.55) -> tuple[np.ndarray, np.ndarray]:
+    """n steps of a clean two-switch device: feet alternate every ``step_s``."""
+    return np.arange(n) * step_s, np.where(np.arange(n) % 2 == 0, 1, 2)
+
+
+def test_foot_contacts_leaves_a_clean_device_alone():
+    t, channel = _alternating(40)
+    contacts = foot_contacts(t[::-1], channel[::-1])  # any order in, time order out
+    np.testing.assert_array_equal(contacts.t, t)
+    np.testing.assert_array_equal(contacts.channel, channel)
+    assert not contacts.inferred.any() and contacts.bounces == 0
+
+
+def test_foot_contacts_drops_bounces_and_adds_missed_contacts():
+    t, channel = _alternating(40)  # a stride of 1.1 s
+    stride = 1.1
+    # Channel 1 bounces 0.3 s after three of its steps (within half a stride) ...
+    bounce_t = t[[4, 10, 20]] + 0.3
+    # ... and channel 2 misses its steps 7 and 25 (channel 1 steps twice in a row).
+    keep = np.ones(len(t), dtype=bool)
+    keep[[7, 25]] = False
+    contacts = foot_contacts(
+        np.concatenate([t[keep], bounce_t]), np.concatenate([channel[keep], [1, 1, 1]])
+    )
+    assert contacts.bounces == 3
+    # Every true step back, the missed ones midway between their neighbours.
+    np.testing.assert_allclose(contacts.t, t)
+    np.testing.assert_array_equal(contacts.channel, channel)
+    np.testing.assert_array_equal(np.flatnonzero(contacts.inferred), [7, 25])
+    assert 0.3 < BOUNCE_STRIDES * stride and MISSED_STRIDES * stride > 2 * 0.55
+
+
+def test_foot_contacts_adds_nothing_across_a_halt():
+    # The walker stops on channel 1's foot and starts again with it 3 s later.
+    t, channel = _alternating(21)
+    later_t, later_channel = _alternating(20)
+    contacts = foot_contacts(
+        np.concatenate([t, t[-1] + 3.0 + later_t]), np.concatenate([channel, later_channel])
+    )
+    assert len(contacts.t) == 41 and not contacts.inferred.any()
+
+
+def test_foot_contacts_rejects_mismatched_inputs():
+    with pytest.raises(ValueError, match="3 step times but 2 channels"):
+        foot_contacts([0.0, 0.5, 1.0], [1, 2])
 
 
 @pytest.mark.parametrize(
@@ -188,6 +241,7 @@ def test_oxford_validation_steps_follow_the_ground_truth_column(name: str):
     rec = Recording.load(path)
     ground_truth = np.loadtxt(path, delimiter=",", usecols=5)
     assert len(rec.steps) == ground_truth[-1] == rec.meta["ground_truth_steps"]
+    assert rec.meta["device_steps"] == rec.meta["ground_truth_steps"]
     assert 326 <= len(rec.steps) <= 361
     assert 99 < rec.meta["rates_hz"]["accel"] < 102
     assert rec.meta["device"] == "Samsung Galaxy S6"

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import math
 import re
 from collections import Counter
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -37,6 +39,91 @@ def _step_rows(t: NDArray[np.float64], extra: dict[str, ArrayLike] | None = None
     return time_frame(t, columns | (extra or {}))
 
 
+BOUNCE_STRIDES = 0.5
+"""A channel of the reference device that rises again within this share of a stride
+(the median interval between its own rises) of its last step is the switch bouncing,
+not a step: one foot cannot strike twice within half a stride (0.5–0.65 s at the
+1.7–2 steps/s of these walks)."""
+MISSED_STRIDES = 1.5
+"""Two steps of one channel with none of the other between, at most this many strides
+apart, hold a contact the other channel missed: the feet alternate while walking, so
+the other foot struck in between. Further apart (a halt, a turn on the spot) nothing
+is added."""
+
+
+@dataclass(frozen=True)
+class FootContacts:
+    """The reference device's steps with its two faults undone (:func:`foot_contacts`)."""
+
+    t: NDArray[np.float64]
+    """Each step's time, s, in order."""
+    channel: NDArray[np.int64]
+    """The channel (foot) of each step, 1 or 2."""
+    inferred: NDArray[np.bool_]
+    """True for a contact the device missed, placed midway between its neighbours."""
+    bounces: int
+    """Rises dropped as the switch bouncing."""
+
+
+def foot_contacts(t: ArrayLike, channel: ArrayLike) -> FootContacts:
+    """The steps of the two-channel reference device, bounces dropped and misses added.
+
+    The device has two switches, read as the two feet (README of the data set), and
+    both fail in the recordings: in the swinging-arm walks a channel rises again
+    0.27–0.45 s after its last rise, mid-stride (a bounce: 284 rises where the
+    spectrum's cadence says ≈ 264 steps, one channel 151 and the other 133), and in
+    one pocket walk a channel rises 144 times against the other's 162, with twelve of
+    its strides two strides long (a missed contact). A rise within
+    :data:`BOUNCE_STRIDES` of a stride of the same channel's last kept step is
+    dropped; between two kept steps of one channel with none of the other's between,
+    at most :data:`MISSED_STRIDES` strides apart, the other foot's step is added
+    midway. A device that alternates cleanly is returned unchanged.
+
+    Args:
+        t: (N,) times of the rises, s.
+        channel: (N,) the channel of each rise, 1 or 2.
+
+    >>> c = foot_contacts([0.0, 0.5, 0.8, 1.0, 1.5, 2.0, 3.0, 3.5], [1, 2, 2, 1, 2, 1, 1, 2])
+    >>> c.t.tolist(), c.channel.tolist(), c.bounces  # channel 2 bounced at 0.8
+    ([0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5], [1, 2, 1, 2, 1, 2, 1, 2], 1)
+    >>> c.inferred.nonzero()[0].tolist()  # channel 2 missed its step between 2 and 3
+    [5]
+    """
+    t = np.asarray(t, dtype=float).reshape(-1)
+    channel = np.asarray(channel, dtype=np.int64).reshape(-1)
+    if len(t) != len(channel):
+        raise ValueError(f"{len(t)} step times but {len(channel)} channels")
+    per_channel = [np.sort(t[channel == c]) for c in (1, 2)]
+    intervals = np.concatenate([np.diff(x) for x in per_channel])
+    if not len(intervals):
+        order = np.argsort(t, kind="stable")
+        return FootContacts(t[order], channel[order], np.zeros(len(t), dtype=bool), 0)
+    stride = float(np.median(intervals))
+    kept: list[tuple[float, int]] = []
+    bounces = 0
+    for c, times in zip((1, 2), per_channel, strict=True):
+        last = -math.inf
+        for s in times:
+            if s - last < BOUNCE_STRIDES * stride:
+                bounces += 1
+                continue
+            kept.append((float(s), c))
+            last = s
+    kept.sort()
+    out_t, out_c, out_inferred = [], [], []
+    for k, (s, c) in enumerate(kept):
+        if k and kept[k - 1][1] == c and s - kept[k - 1][0] <= MISSED_STRIDES * stride:
+            out_t.append(0.5 * (kept[k - 1][0] + s))
+            out_c.append(3 - c)
+            out_inferred.append(True)
+        out_t.append(s)
+        out_c.append(c)
+        out_inferred.append(False)
+    return FootContacts(
+        np.array(out_t), np.array(out_c, dtype=np.int64), np.array(out_inferred), bounces
+    )
+
+
 def read_oxford_folder(path: PathLike) -> Recording:
     """Read an Oxford step-counter optimisation folder ``<Phone>_<User>_<Surface>_<Position>_<n>``.
 
@@ -46,12 +133,14 @@ def read_oxford_folder(path: PathLike) -> Recording:
       flag, x, y, z m/s² with gravity) → ``accel``; the accuracy flag (always 3)
       is dropped.
     * ``stepcounter.csv`` (no header: timestamp ns on the same clock, then the
-      binary states of the two channels of the ground-truth device) → ``steps``,
-      one row per 0→1 transition on either channel, as upstream's ``stats.js``
-      counts them (a channel that starts at 1 is not a step). ``foot`` is
-      missing and ``length`` NaN: that the channels are the two feet is a
-      reading, not documented upstream; the channel (1 or 2) is kept in column
-      ``channel``.
+      binary states of the two channels of the ground-truth device) → ``steps``:
+      the 0→1 transitions on either channel, which upstream's ``stats.js``
+      counts as the steps (a channel that starts at 1 is not a step), with the
+      device's faults undone by :func:`foot_contacts` — a channel's bounce
+      dropped, a contact it missed between two of its steps added (column
+      ``inferred`` True). ``foot`` is missing and ``length`` NaN: that the
+      channels are the two feet is a reading, not documented upstream; the
+      channel (1 or 2) is kept in column ``channel``.
     * ``metadata.txt`` (some folders) → ``meta["sensors"]["accel"]["name"]``.
     * The folder name → ``meta`` ``device`` (phone), ``user``, ``surface``,
       ``position`` and ``trial``; ``mode`` from the position (``InHand`` →
@@ -59,8 +148,11 @@ def read_oxford_folder(path: PathLike) -> Recording:
       dangling, others as given).
 
     ``t`` = (ns − first accelerometer ns)/1e9 (a clock since boot;
-    ``meta["t0_boot_ns"]``). ``meta["ground_truth_steps"]`` is the step count and
-    ``meta["channel_steps"]`` the count per channel. Rows that cannot be read
+    ``meta["t0_boot_ns"]``). ``meta["ground_truth_steps"]`` is the step count,
+    ``meta["device_steps"]`` the device's own (upstream's: every transition),
+    ``meta["channel_steps"]`` the device's count per channel, and
+    ``meta["switch_bounces"]`` and ``meta["missed_contacts"]`` what the check
+    dropped and added. Rows that cannot be read
     are skipped and counted as ``"<file>.csv: <reason>"`` in
     ``meta["malformed_rows"]``, with a warning (see :mod:`indoorsim.io.reallogs`).
     """
@@ -97,7 +189,10 @@ def read_oxford_folder(path: PathLike) -> Recording:
         step_t.append(state_t[rises])
         step_channel.append(np.full(len(rises), channel, dtype=np.int64))
         per_channel.append(len(rises))
-    streams["steps"] = _step_rows(np.concatenate(step_t), {"channel": np.concatenate(step_channel)})
+    contacts = foot_contacts(np.concatenate(step_t), np.concatenate(step_channel))
+    streams["steps"] = _step_rows(
+        contacts.t, {"channel": contacts.channel, "inferred": contacts.inferred}
+    )
     streams = finite_rows(streams, malformed, {"accel": "accelerometer.csv"})
 
     meta: dict[str, Any] = {"source": {"format": "oxford-stepcounter", "folder": folder.name}}
@@ -125,7 +220,10 @@ def read_oxford_folder(path: PathLike) -> Recording:
         "frames": {"phone": "Android sensor frame (x right, y up the screen, z out of it)"},
         "rates_hz": median_rates_hz(streams),
         "ground_truth_steps": len(streams["steps"]),
+        "device_steps": sum(per_channel),
         "channel_steps": per_channel,
+        "switch_bounces": contacts.bounces,
+        "missed_contacts": int(contacts.inferred.sum()),
         "dropped_rows": {},
         "malformed_rows": report_malformed(folder, malformed),
     }
@@ -158,7 +256,9 @@ def read_oxford_validation(path: PathLike) -> Recording:
        ``meta["app_algorithm_steps"]``;
     6. the ground-truth device, cumulative → ``steps``: one row at each row
        where it increases (k rows if it jumps by k); ``foot`` missing,
-       ``length`` NaN; the total is ``meta["ground_truth_steps"]``;
+       ``length`` NaN; the total is ``meta["ground_truth_steps"]`` (and
+       ``meta["device_steps"]``: with no channels the device's faults cannot be
+       checked, :func:`foot_contacts`);
     7. the phone's hardware step counter, cumulative → dropped; its final count
        is ``meta["hardware_steps"]``, None when the column is all zero (not
        recorded).
@@ -238,6 +338,7 @@ def read_oxford_validation(path: PathLike) -> Recording:
         "frames": {"phone": "Android sensor frame (x right, y up the screen, z out of it)"},
         "rates_hz": median_rates_hz(streams),
         "ground_truth_steps": int(increments.sum()),
+        "device_steps": int(increments.sum()),
         "app_algorithm_steps": int(data[-1, 4] - data[0, 4]),
         "hardware_steps": int(hardware[-1] - hardware[0]) if hardware.any() else None,
         "dropped_rows": {"zero_accel_placeholder": leading} if leading else {},
