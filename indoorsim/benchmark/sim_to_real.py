@@ -49,7 +49,7 @@ from indoorsim.benchmark.evaluation import (
 )
 from indoorsim.benchmark.metrics import start_aligned_errors, track_length
 from indoorsim.benchmark.realism.calibrate import calibrate
-from indoorsim.benchmark.realism.headings import gyro_yaw_rate, leg_headings
+from indoorsim.benchmark.realism.headings import gyro_yaw_rate, leg_headings, rotation_heading
 from indoorsim.benchmark.realism.magnetic import hard_iron_residual, magnetic_statistics
 from indoorsim.benchmark.realism.motion import HELD_KEYS, motion_statistics
 from indoorsim.benchmark.realism.reference import HELD_FLAT
@@ -306,15 +306,27 @@ def _pace(rec: Recording) -> dict[str, float]:
 
 def _straightness(rec: Recording) -> dict[str, float]:
     """The medians over a walk's long legs of :func:`leg_headings`' two readings (the
-    marks' direction against the gyro in size, and the heading's swing), degrees."""
+    marks' direction against the gyro in size, and the heading's swing), and of the
+    marks' direction against the fused rotation vector's heading in size (which
+    ``learned-io`` takes its heading from), degrees."""
+    nan = float("nan")
+    out = {"leg_marks": nan, "leg_swing": nan, "leg_marks_rotation": nan}
     legs = leg_headings(rec)
-    if legs is None:
-        return {"leg_marks": float("nan"), "leg_swing": float("nan")}
-    marks = np.abs(legs.marks_deg)
-    return {
-        "leg_marks": float(np.median(marks)) if np.isfinite(marks).all() else float("nan"),
-        "leg_swing": float(np.median(legs.swing_deg)),
-    }
+    if legs is not None:
+        out["leg_swing"] = float(np.median(legs.swing_deg))
+        out["leg_marks"] = _median_size(legs.marks_deg)
+    if "rotation" in rec.streams and len(rec.rotation):
+        fused = leg_headings(rec, rotation_heading(rec))
+        if fused is not None:
+            out["leg_marks_rotation"] = _median_size(fused.marks_deg)
+    return out
+
+
+def _median_size(angles_deg: NDArray[np.float64]) -> float:
+    """The median size of a walk's per-leg angles; NaN where they are not read (fewer
+    than two legs)."""
+    sizes = np.abs(angles_deg)
+    return float(np.median(sizes)) if np.isfinite(sizes).all() else float("nan")
 
 
 SIGNALS = {
@@ -342,6 +354,9 @@ SIGNALS = {
     "lead": "corner waypoints marked before the walker's turn (s)",
     "leg_marks": "legs of 4 m or more: the marks' direction against the gyro's heading (°)",
     "leg_swing": "legs of 4 m or more: the heading's swing within one, 2 s means (°)",
+    "leg_marks_rotation": (
+        "legs of 4 m or more: the marks' direction against the rotation vector's heading (°)"
+    ),
 }
 """The signal statistics the twin table compares (:func:`walk_signals`)."""
 

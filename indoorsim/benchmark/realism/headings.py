@@ -36,6 +36,7 @@ from scipy.ndimage import uniform_filter1d
 
 from indoorsim.estimators.frames import wrap_angle, yaw_rate
 from indoorsim.io.recording import Recording
+from indoorsim.util.quaternion import twist_yaw
 
 __all__ = [
     "MIN_LEG_M",
@@ -45,6 +46,7 @@ __all__ = [
     "gyro_heading",
     "gyro_yaw_rate",
     "leg_headings",
+    "rotation_heading",
 ]
 
 MIN_LEG_M = 4.0
@@ -100,18 +102,39 @@ def gyro_heading(rec: Recording) -> tuple[NDArray[np.float64], NDArray[np.float6
     return t, cumulative_trapezoid(rate, t, initial=0.0)
 
 
-def leg_headings(rec: Recording) -> LegHeadings | None:
+def rotation_heading(rec: Recording) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The fused rotation vector's heading: its twist about the vertical
+    (:func:`~indoorsim.util.quaternion.twist_yaw`), unwrapped: (t, heading), rad,
+    counter-clockwise. Android fuses it from the gyro, the accelerometer and the
+    magnetometer, so indoors it follows the building's magnetic disturbances, which
+    the gyro's heading does not feel."""
+    rot = rec.rotation
+    t = rot.index.to_numpy(dtype=float)
+    yaw = twist_yaw(rot[["qw", "qx", "qy", "qz"]].to_numpy(dtype=float))
+    return t, np.unwrap(yaw)
+
+
+def leg_headings(
+    rec: Recording, heading: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+) -> LegHeadings | None:
     """Each long leg's marked direction and heading swing against the gyro (module
-    docstring); None where the walk has no waypoints, gyro or accelerometer, or no
-    leg long enough to read."""
-    if not {"waypoints", "gyro", "accel"} <= set(rec.streams):
+    docstring), or against ``heading`` — (t, heading) in rad, e.g.
+    :func:`rotation_heading` — where given; None where the walk has no waypoints, no
+    gyro or accelerometer for the gyro's heading, or no leg long enough to read."""
+    if "waypoints" not in rec.streams:
         return None
     wp = rec.waypoints
     xy = wp[["x", "y"]].to_numpy(dtype=float)
     marks = wp.index.to_numpy(dtype=float)
-    if len(xy) < 2 or len(rec.gyro) < 10 or len(rec.accel) < 2:
+    if len(xy) < 2:
         return None
-    t, heading = gyro_heading(rec)
+    if heading is None:
+        if not {"gyro", "accel"} <= set(rec.streams) or len(rec.gyro) < 10 or len(rec.accel) < 2:
+            return None
+        heading = gyro_heading(rec)
+    t, heading = heading
+    if len(t) < 10:
+        return None
     if not np.isfinite(heading).all():
         return None  # no finite sample to bridge from
     window = max(1, round(HEADING_MEAN_S / float(np.median(np.diff(t)))))

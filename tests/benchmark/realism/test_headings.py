@@ -8,8 +8,14 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from indoorsim.benchmark.realism.headings import HEADING_MEAN_S, leg_headings
+from indoorsim.benchmark.realism.headings import (
+    HEADING_MEAN_S,
+    gyro_heading,
+    leg_headings,
+    rotation_heading,
+)
 from indoorsim.io.recording import Recording
+from indoorsim.util import quaternion
 
 RATE_HZ = 100.0
 
@@ -143,3 +149,24 @@ def test_a_leg_past_the_gyros_record_is_not_read_and_a_gyro_dropout_is_bridged()
     legs = leg_headings(rec)
     np.testing.assert_allclose(legs.marks_deg, 0.0, atol=0.05)
     np.testing.assert_allclose(legs.swing_deg, 0.0, atol=0.05)
+
+
+def test_the_rotation_vectors_heading_shows_a_disturbance_the_gyro_does_not_feel():
+    """A fused heading that the building's field turns 6° one way on the first leg and
+    the other way on the second reads ∓6° against the marks (the marks less the
+    heading) where the gyro's reads 0, whatever the phone's tilt and the map's north."""
+    rec = _walk(MARKS, TIMES, TURNS)
+    t, gyro = gyro_heading(rec)
+    disturbance = np.radians(np.where(t < 20.0, 6.0, -6.0))
+    yaw = gyro + disturbance + 2.0  # the rotation vector's world is magnetic north's
+    tilt = np.array([math.cos(0.3), math.sin(0.3), 0.0, 0.0])  # pitched 34°
+    q = quaternion.multiply(
+        np.column_stack([np.cos(yaw / 2), np.zeros_like(t), np.zeros_like(t), np.sin(yaw / 2)]),
+        tilt,
+    )
+    rotation = pd.DataFrame(q, columns=["qw", "qx", "qy", "qz"], index=rec.gyro.index)
+    rec = Recording._from_built(rec.streams | {"rotation": rotation}, {})
+    t_rot, fused = rotation_heading(rec)
+    np.testing.assert_allclose(fused - fused[0], yaw - yaw[0], atol=1e-9)
+    np.testing.assert_allclose(leg_headings(rec).marks_deg, 0.0, atol=0.05)
+    np.testing.assert_allclose(leg_headings(rec, (t_rot, fused)).marks_deg, [-6.0, 6.0], atol=0.05)
