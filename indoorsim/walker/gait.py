@@ -210,8 +210,14 @@ class WalkerParams:
     """Vertical excursion of the pelvis as a fraction of the compass-gait value
     step²/(8·leg): 4–5 cm peak to peak at usual pace (knee and pelvis
     motion reduce the 6.5–8.8 cm of the rigid-leg model)."""
-    speed_oscillation: float = 0.1
-    """Intra-step forward speed swing (amplitude) as a fraction of the speed [E]."""
+    double_support: float = 0.2
+    """Share of each step in which both feet are on the ground and the load passes
+    from the trailing leg to the leading one: each double support is about a tenth
+    of the gait cycle at usual pace [S: gait textbooks]. With ``cop_travel_m`` it
+    shapes the forward surge (:func:`~indoorsim.walker.motion.surge_waveforms`)."""
+    cop_travel_m: float = 0.15
+    """How far the centre of pressure rolls along the stance foot in a step, heel to
+    forefoot (about 0.6 of a foot's length) [E]."""
     lateral_sway_m: tuple[float, float] = (0.02, 0.03)
     """Range of the lateral sway amplitude toward the stance foot (±2–3 cm)."""
     trunk_yaw_deg: tuple[float, float] = (3.0, 8.0)
@@ -271,7 +277,8 @@ class WalkerParams:
             "wall_distance_m": self.wall_distance_m >= 0,
             "body_radius_m": 0.05 <= self.body_radius_m <= 0.5,
             "bounce_fraction": self.bounce_fraction >= 0,
-            "speed_oscillation": 0 <= self.speed_oscillation < 0.5,
+            "double_support": 0.0 < self.double_support < 0.5,
+            "cop_travel_m": 0.0 <= self.cop_travel_m < 0.3,
             "lateral_sway_m": 0 <= self.lateral_sway_m[0] <= self.lateral_sway_m[1],
             "trunk_yaw_deg": 0 <= self.trunk_yaw_deg[0] <= self.trunk_yaw_deg[1],
             "trunk_roll_deg": 0 <= self.trunk_roll_deg[0] <= self.trunk_roll_deg[1],
@@ -485,7 +492,8 @@ def walk(
         leg_m=leg,
         cruise_mps=v_cruise,
         bounce_fraction=params.bounce_fraction,
-        speed_oscillation=params.speed_oscillation,
+        double_support=params.double_support,
+        cop_travel_m=params.cop_travel_m,
         lateral_sway_m=params.lateral_sway_m,
         trunk_yaw_deg=params.trunk_yaw_deg,
         trunk_roll_deg=params.trunk_roll_deg,

@@ -2,8 +2,10 @@
 
 :func:`intra_step_motion` is the last stage of
 :func:`~indoorsim.walker.gait.walk` (DESIGN §5, numbers from REALISM §5),
-added analytically at ``rate_hz``: forward speed oscillation and vertical
-bounce at step frequency (lowest and fastest just after heel strike), lateral
+added analytically at ``rate_hz``: vertical bounce at step frequency (lowest
+just after heel strike), the forward surge the ground's force gives it
+(:func:`surge_waveforms`: braking as the leading leg takes the load, propulsion
+as the trailing leg pushes off), lateral
 sway and lean toward the stance foot and trunk yaw at stride frequency, and heel-strike
 transients shaped as Ricker wavelets of the acceleration (smooth, zero net
 velocity change; :func:`impulse_displacement`, which the carrying modes use
@@ -24,7 +26,14 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
 
-__all__ = ["IntraStepMotion", "bounce_waveform", "impulse_displacement", "intra_step_motion"]
+__all__ = [
+    "IntraStepMotion",
+    "bounce_waveform",
+    "harmonic_series",
+    "impulse_displacement",
+    "intra_step_motion",
+    "surge_waveforms",
+]
 
 _G = 9.81  # m/s²
 # Heel-strike transients last about ±3σ (when they peak: below). At
@@ -82,6 +91,78 @@ def bounce_waveform(phase: NDArray[np.float64], width: float) -> NDArray[np.floa
     return -scale * out
 
 
+_SURGE_HARMONICS = 8
+"""Harmonics of the step rate kept in the forward surge: the load's transfer between
+the legs over a fifth of a step leaves 0.5 % of the surge's acceleration power above
+the eighth."""
+
+
+def surge_waveforms(
+    width: float, double_support: float, cop_travel: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Fourier coefficients of the body centre's forward offset within a step, as the
+    ground's force drives it: (gravity's part, the loading peak's part), each (H,)
+    complex for the step rate's harmonics 1 … H.
+
+    The stance leg pushes along itself, so the ground's horizontal force is its
+    vertical force times the lever of the body centre over the centre of pressure,
+    over the centre's height (the inverted pendulum with a foot): a_fwd = (g + a_up)·λ/h.
+    Over a step of length D the lever runs from −D/2 at heel strike (the leading foot
+    ahead: braking) to +D/2 at the next (the body centre past the foot: propulsion),
+    less the centre of pressure's roll from heel to forefoot (``cop_travel``, in steps);
+    in double support (the first ``double_support`` of the step) the load passes from
+    the trailing leg, pushing off from its toes, to the leading one (a smoothstep of
+    weight). The vertical force peaks as the load passes (:func:`bounce_waveform`'s
+    loading peak of ``width``), so the braking after heel strike and the push-off
+    before it are sharp and rich in harmonics, where the body's speed swing used to
+    be one sinusoid. The mean of the product is removed: at a steady pace the
+    push-off makes up for what the braking takes.
+
+    With λ = D·ℓ(p) and a_up = bounce·(2π/T)²·u(p) (u the loading peak of unit
+    bounce), the forward offset is (D/h)·[g·(T/2π)²·G(p) + bounce·L(p)]: G and L are
+    the harmonic series returned here (of ℓ and of u·ℓ, each harmonic k divided by
+    −k²), so cadence, step length and bounce scale a step's surge through the two
+    amplitudes alone.
+    """
+    grid = np.arange(512) / 512.0
+    x = 2.0 * np.pi * (grid - _DOUBLE_SUPPORT_PHASE)
+    k = np.arange(1, _BOUNCE_HARMONICS + 1)
+    # u: the loading peak's acceleration for a bounce of peak to peak 1 (in units of
+    # (2π/T)²·bounce), the second derivative of bounce_waveform's offset.
+    weight = np.exp(-0.5 * (2.0 * np.pi * k * width) ** 2)
+    offset_scale = 1.0 / float(np.ptp(-(weight / k**2 * np.cos(np.outer(x, k))).sum(axis=1)))
+    loading = offset_scale * (weight * np.cos(np.outer(x, k))).sum(axis=1)
+    share = np.clip(grid / double_support, 0.0, 1.0)
+    share = share * share * (3.0 - 2.0 * share)  # of the load on the leading leg
+    lever = share * (grid - 0.5 - cop_travel * grid) + (1.0 - share) * (grid + 0.5 - cop_travel)
+    h = np.arange(1, _SURGE_HARMONICS + 1)
+    out = []
+    for accel in (lever, loading * lever):
+        coeff = np.fft.rfft(accel)[1 : _SURGE_HARMONICS + 1] * (2.0 / len(grid))
+        out.append(-coeff / h**2)
+    return out[0], out[1]
+
+
+def harmonic_series(
+    phase: NDArray[np.float64], coeff: NDArray[np.complex128]
+) -> NDArray[np.float64]:
+    """Σ_k Re(c_k·e^{2πik·phase}) for k = 1 … len(coeff): a step-periodic waveform.
+
+    cos 2πp + 0.5·sin 4πp (a coefficient −i is a sine):
+
+    >>> harmonic_series(np.array([0.0, 0.125]), np.array([1.0, -0.5j])).round(6).tolist()
+    [1.0, 1.207107]
+    """
+    # e^{ik·x} by repeated multiplication: one complex exponential per sample.
+    step = np.exp(2j * np.pi * phase)
+    power = step.copy()
+    out = np.real(coeff[0] * power)
+    for c in coeff[1:]:
+        power *= step
+        out += np.real(c * power)
+    return out
+
+
 class IntraStepMotion(NamedTuple):
     """The body centre's motion within each step, in the walking direction's frame."""
 
@@ -112,7 +193,8 @@ def intra_step_motion(
     leg_m: float,
     cruise_mps: float,
     bounce_fraction: float,
-    speed_oscillation: float,
+    double_support: float,
+    cop_travel_m: float,
     lateral_sway_m: tuple[float, float],
     trunk_yaw_deg: tuple[float, float],
     trunk_roll_deg: tuple[float, float],
@@ -122,7 +204,7 @@ def intra_step_motion(
     loading_asymmetry: tuple[float, float],
     rng: np.random.Generator,
 ) -> IntraStepMotion:
-    """Bounce, forward swing, sway, trunk yaw and heel-strike jolts at the times ``t``.
+    """Bounce, forward surge, sway, trunk yaw and heel-strike jolts at the times ``t``.
 
     Args:
         t: (K,) sample times (s).
@@ -136,7 +218,10 @@ def intra_step_motion(
         cruise_mps: cruising speed; slower steps strike more gently.
         bounce_fraction: vertical excursion as a fraction of the compass-gait
             value step²/(8·leg).
-        speed_oscillation: forward speed swing as a fraction of the speed.
+        double_support: the share of a step in which both feet carry the body and
+            the load passes from the trailing leg to the leading one.
+        cop_travel_m: how far the centre of pressure rolls along the stance foot
+            over a step, heel to forefoot (m).
         lateral_sway_m: range of the sway amplitude (drawn once per walk).
         trunk_yaw_deg: range of the trunk yaw amplitude (drawn once per walk).
         trunk_roll_deg: range of the trunk's sideways lean amplitude (drawn once per walk).
@@ -161,12 +246,14 @@ def intra_step_motion(
         bounce_fraction * step_lengths**2 / (8.0 * leg_m),
         _G * (step_durations / (2.0 * np.pi)) ** 2,
     )
-    swing = speed_oscillation * step_lengths / (2.0 * np.pi)  # forward swing amplitude
     # One leg loads the body harder than the other: alternate steps bounce more.
     lopsided = rng.uniform(*loading_asymmetry) * rng.choice([-1.0, 1.0])
     bounce = bounce * (1.0 + 0.5 * lopsided * (-1.0) ** np.arange(len(bounce)))
-    amp = _per_step_curve(np.column_stack([bounce, swing]), phase)
-    cyc = 2.0 * np.pi * (phase - _DOUBLE_SUPPORT_PHASE)
+    # The forward surge's two parts per step (surge_waveforms): gravity's through the
+    # lever, and the loading peak's.
+    gravity_surge = step_lengths / leg_m * _G * (step_durations / (2.0 * np.pi)) ** 2
+    loading_surge = step_lengths / leg_m * bounce
+    amp = _per_step_curve(np.column_stack([bounce, gravity_surge, loading_surge]), phase)
     sway = rng.uniform(*lateral_sway_m)
     yaw_amp = math.radians(rng.uniform(*trunk_yaw_deg))
     roll_amp = math.radians(rng.uniform(*trunk_roll_deg))
@@ -177,6 +264,8 @@ def intra_step_motion(
         * rng.uniform(0.85, 1.15, len(strike_t))
     )
     width = rng.uniform(*loading_width)
+    typical_step = float(np.median(step_lengths)) if len(step_lengths) else 1.0
+    by_gravity, by_loading = surge_waveforms(width, double_support, cop_travel_m / typical_step)
     # The heel strike jolts the pelvis up and brakes it at half that.
     jolt = impulse_displacement(t, strike_t, hs_up, delay_s=_TRUNK_JOLT_DELAY_S)
     # The trunk leans forward as heel strike brakes the pelvis beneath it (double
@@ -189,7 +278,12 @@ def intra_step_motion(
     typical = float(np.median(bounce)) if len(bounce) else 0.0
     relative = amp[:, 0] / max(typical, 1e-12)
     return IntraStepMotion(
-        forward=envelope * amp[:, 1] * np.sin(cyc) - 0.5 * jolt,
+        forward=envelope
+        * (
+            amp[:, 1] * harmonic_series(phase, by_gravity)
+            + amp[:, 2] * harmonic_series(phase, by_loading)
+        )
+        - 0.5 * jolt,
         lateral=envelope * sway * np.sin(2.0 * np.pi * stride),
         up=envelope * amp[:, 0] * wave + jolt,
         trunk_yaw=envelope * yaw_amp * np.cos(2.0 * np.pi * stride),

@@ -127,7 +127,9 @@ def test_motion_is_smooth_enough_to_differentiate_twice(l_plan, room_to_corridor
     """Without heel-strike jolts, acceleration changes little from one 200 Hz sample to the next.
 
     A kink in a position (a jump in velocity) would show as a jump of its
-    second difference of hundreds of m/s²; a C² track keeps it to about one.
+    second difference of hundreds of m/s²; a C² track keeps it to about one. The
+    sharpest smooth change is the forward surge's braking as the leading leg takes
+    the load (≈ 130 m/s³: 0.65 m/s² from one sample to the next).
     """
     params = WalkerParams(heel_strike_mps2=(0.0, 0.0), stop_rate_per_min=3.0)
     body = walk(l_plan, room_to_corridor_end, params, np.random.default_rng(1))
@@ -136,7 +138,7 @@ def test_motion_is_smooth_enough_to_differentiate_twice(l_plan, room_to_corridor
     def jerk_step(pos: np.ndarray) -> float:
         return float(np.abs(np.diff(pos, 3, axis=0)).max() * rate**2)
 
-    assert jerk_step(body.pos) < 0.5
+    assert jerk_step(body.pos) < 1.0
     schedules = [
         *BUILT_IN[:3],
         [(0.0, "pocketed", {"impact_mps2": (0.0, 0.0)})],
@@ -528,8 +530,9 @@ def test_the_held_hand_surges_in_step_with_its_vertical_jolts(straight_body):
     """The arm's weight lies ahead of the shoulder, so each vertical jolt turns it about
     the shoulder, and the hand moves up and forward together. The 16 ILC traces'
     flat-held phones: forward acceleration per vertical at twice the step rate 0.20,
-    −35° (medians; coherence 0.8); an arm held stiff at the shoulder surged the other
-    way (+126° to +144° on this walk)."""
+    −35° (medians; coherence 0.8). An arm held stiff at the shoulder passes on only
+    the body's own surge (the ground's push as the load passes between the legs), at
+    about half that gain."""
     body = straight_body
     keep = _steady(body)
     t = body.t[keep]
@@ -550,9 +553,8 @@ def test_the_held_hand_surges_in_step_with_its_vertical_jolts(straight_body):
     gains = np.array([surge_per_vertical({}, seed) for seed in range(5)])
     assert 0.04 < np.median(np.abs(gains)) < 0.4
     assert abs(np.degrees(np.angle(np.mean(gains / np.abs(gains))))) < 50
-    for seed in range(3):
-        stiff = surge_per_vertical({"shoulder_hz": (80.0, 80.0)}, seed)
-        assert abs(np.degrees(np.angle(stiff))) > 110
+    stiff = np.array([surge_per_vertical({"shoulder_hz": (80.0, 80.0)}, s) for s in range(3)])
+    assert np.abs(stiff).max() < 0.7 * np.median(np.abs(gains))
 
 
 def test_the_reading_pose_implies_an_upper_arm_of_anthropometric_length():

@@ -9,7 +9,7 @@ import pytest
 
 from indoorsim.scenario import RouteSpec
 from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
-from indoorsim.walker.motion import impulse_displacement
+from indoorsim.walker.motion import harmonic_series, impulse_displacement, surge_waveforms
 from indoorsim.walker.route import plan_route
 
 G = 9.81
@@ -48,6 +48,65 @@ def test_bounce_sway_and_trunk_yaw_amplitudes(straight_body):
     assert params.lateral_sway_m[0] * 0.9 <= np.abs(lateral).max() <= params.lateral_sway_m[1] * 1.2
     trunk = np.degrees(np.abs(body.yaw[core] - body.heading[core]).max())
     assert params.trunk_yaw_deg[0] * 0.9 <= trunk <= params.trunk_yaw_deg[1] * 1.01
+
+
+def test_the_surge_of_a_rigid_pendulum_on_a_point_foot_is_a_sawtooth():
+    """With the load passing between the legs at once and no roll of the foot, the
+    lever over the stance foot runs from −1/2 to +1/2 of a step, so gravity's part of
+    the forward acceleration is g·D/h·(p − 1/2): a sawtooth, whose harmonics are
+    −sin(2πkp)/(πk); the offset's are those divided by −(2πk/T)², i.e. −i/(πk³) in
+    units of g·D/h·(T/2π)²."""
+    by_gravity, by_loading = surge_waveforms(0.18, double_support=1e-4, cop_travel=0.0)
+    k = np.arange(1, len(by_gravity) + 1)
+    np.testing.assert_allclose(by_gravity, -1j / (np.pi * k**3), atol=2e-3)
+    # The loading peak's part is smooth where the load passes: it falls off faster.
+    assert abs(by_loading[-1]) < 0.05 * abs(by_loading[0])
+
+
+def test_the_body_brakes_as_the_leading_leg_takes_the_load_and_pushes_off_before(corridor):
+    """Without heel-strike jolts, the body centre's forward acceleration is that of the
+    ground's force in walking: propulsion peaking about heel strike (the trailing leg's
+    push-off, still carrying the load), braking peaking a fifth to a third of a step
+    later (the leading leg loaded ahead of the body), each about a quarter of g; the
+    speed swings by 0.1–0.4 m/s within a step (the inverted pendulum's 10–15 % of a
+    1.3 m/s walk)."""
+    route = plan_route(corridor, RouteSpec(waypoints=[(1.0, 1.5), (39.0, 1.5)], speed=1.3))
+    params = WalkerParams(speed_cv=0.0, asymmetry=0.0, heel_strike_mps2=(0.0, 0.0))
+    body = walk(corridor, route, params, np.random.default_rng(11))
+    t = body.t[1:-1]
+    heading = np.array([np.cos(body.heading[1:-1]), np.sin(body.heading[1:-1])]).T
+    forward = np.einsum("ij,ij->i", _accel(body)[:, :2], heading)
+    speed = np.gradient(body.pos[:, :2], body.t, axis=0)
+    strikes = body.steps["t"].to_numpy()[4:-4]
+    step = float(np.median(np.diff(strikes)))
+
+    def mean_between(start: float, end: float) -> float:
+        """The mean forward acceleration from ``start`` to ``end`` steps after heel strikes."""
+        return float(
+            np.concatenate(
+                [forward[(t > s + start * step) & (t < s + end * step)] for s in strikes]
+            ).mean()
+        )
+
+    assert 1.5 < mean_between(-0.1, 0.1) < 3.5
+    assert -3.5 < mean_between(0.1, 0.35) < -1.5
+    swing = [
+        np.ptp(np.linalg.norm(speed[(body.t >= a) & (body.t < b)], axis=1))
+        for a, b in itertools.pairwise(strikes)
+    ]
+    assert 0.1 <= np.median(swing) <= 0.4
+
+
+def test_a_harmonic_series_is_its_cosines_and_sines():
+    phase = np.linspace(0.0, 3.0, 301)
+    coeff = np.array([0.5, -0.25j, 0.1 + 0.2j])
+    expected = (
+        0.5 * np.cos(2 * np.pi * phase)
+        + 0.25 * np.sin(4 * np.pi * phase)
+        + 0.1 * np.cos(6 * np.pi * phase)
+        - 0.2 * np.sin(6 * np.pi * phase)
+    )
+    np.testing.assert_allclose(harmonic_series(phase, coeff), expected, atol=1e-12)
 
 
 def test_impulse_leaves_no_velocity_or_displacement():

