@@ -23,7 +23,7 @@ from typing import NamedTuple
 
 import numba
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
 
 __all__ = [
@@ -143,24 +143,40 @@ def surge_waveforms(
     return out[0], out[1]
 
 
-def harmonic_series(
-    phase: NDArray[np.float64], coeff: NDArray[np.complex128]
-) -> NDArray[np.float64]:
-    """Σ_k Re(c_k·e^{2πik·phase}) for k = 1 … len(coeff): a step-periodic waveform.
+def harmonic_series(phase: NDArray[np.float64], coeff: ArrayLike) -> NDArray[np.float64]:
+    """Σ_k Re(c_k·e^{2πik·phase}) for k = 1 … H: step-periodic waveforms.
+
+    ``coeff`` is (H,) for one waveform, or (M, H) for M waveforms at the same phases
+    (which share the work: the result is then (M, K)).
 
     cos 2πp + 0.5·sin 4πp (a coefficient −i is a sine):
 
     >>> harmonic_series(np.array([0.0, 0.125]), np.array([1.0, -0.5j])).round(6).tolist()
     [1.0, 1.207107]
     """
-    # e^{ik·x} by repeated multiplication: one complex exponential per sample.
-    step = np.exp(2j * np.pi * phase)
-    power = step.copy()
-    out = np.real(coeff[0] * power)
-    for c in coeff[1:]:
-        power *= step
-        out += np.real(c * power)
-    return out
+    c = np.asarray(coeff, dtype=complex)
+    rows = np.atleast_2d(c)
+    phase = np.ascontiguousarray(phase, dtype=float)
+    out = np.zeros((rows.shape[0], len(phase)))
+    _harmonic_kernel(phase, np.ascontiguousarray(rows.real), np.ascontiguousarray(rows.imag), out)
+    return out[0] if c.ndim == 1 else out
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _harmonic_kernel(phase, re, im, out):  # pragma: no cover - compiled
+    """out[m, i] = Σ_k re[m, k]·cos((k+1)x_i) − im[m, k]·sin((k+1)x_i), x = 2π·phase: cos
+    and sin of the higher harmonics by the angle-addition recurrence, one pair of
+    transcendental calls per sample."""
+    two_pi = 2.0 * np.pi
+    for i in range(phase.shape[0]):
+        c1 = np.cos(two_pi * phase[i])
+        s1 = np.sin(two_pi * phase[i])
+        ck, sk = c1, s1
+        for k in range(re.shape[1]):
+            if k:
+                ck, sk = ck * c1 - sk * s1, sk * c1 + ck * s1
+            for m in range(re.shape[0]):
+                out[m, i] += re[m, k] * ck - im[m, k] * sk
 
 
 class IntraStepMotion(NamedTuple):
@@ -265,7 +281,9 @@ def intra_step_motion(
     )
     width = rng.uniform(*loading_width)
     typical_step = float(np.median(step_lengths)) if len(step_lengths) else 1.0
-    by_gravity, by_loading = surge_waveforms(width, double_support, cop_travel_m / typical_step)
+    surge = harmonic_series(
+        phase, np.stack(surge_waveforms(width, double_support, cop_travel_m / typical_step))
+    )
     # The heel strike jolts the pelvis up and brakes it at half that.
     jolt = impulse_displacement(t, strike_t, hs_up, delay_s=_TRUNK_JOLT_DELAY_S)
     # The trunk leans forward as heel strike brakes the pelvis beneath it (double
@@ -278,12 +296,7 @@ def intra_step_motion(
     typical = float(np.median(bounce)) if len(bounce) else 0.0
     relative = amp[:, 0] / max(typical, 1e-12)
     return IntraStepMotion(
-        forward=envelope
-        * (
-            amp[:, 1] * harmonic_series(phase, by_gravity)
-            + amp[:, 2] * harmonic_series(phase, by_loading)
-        )
-        - 0.5 * jolt,
+        forward=envelope * (amp[:, 1] * surge[0] + amp[:, 2] * surge[1]) - 0.5 * jolt,
         lateral=envelope * sway * np.sin(2.0 * np.pi * stride),
         up=envelope * amp[:, 0] * wave + jolt,
         trunk_yaw=envelope * yaw_amp * np.cos(2.0 * np.pi * stride),
