@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v8`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v9`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -238,11 +238,16 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       bent over the phone, so the hand rests lower and further ahead; walkers' default
       loading peak is the one the ILC surveyors fit): a seed gives other observations
       and errors. Spaces, rewards and arguments are unchanged.
+    - v9: the walks changed (the body's forward surge is the ground's push through the
+      stance leg — braking as the leading leg takes the load, pushing off before it —
+      where it was one sinusoid; ``WalkerParams.speed_oscillation`` gave way to
+      ``double_support`` and ``cop_travel_m``): a seed gives other observations and
+      errors. Spaces, rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v8")
+        >>> env = gym.make("indoorsim/MinimalRoom-v9")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)

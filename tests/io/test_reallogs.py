@@ -177,6 +177,10 @@ def test_oxford_folder_steps_are_the_devices_checked(
     assert len(rec.steps) == steps == rec.meta["ground_truth_steps"]
     bounces, missed = rec.meta["switch_bounces"], rec.meta["missed_contacts"]
     assert steps == device_steps - bounces + missed
+    assert (bounces, missed) == {
+        "Pixel_Jamie_Hard_SwingingArm_1": (20, 0),
+        "Samsung_Dario_Hard_FrontPocket_1": (6, 15),
+    }.get(folder, (0, 0))
     assert missed == rec.steps["inferred"].sum()
     assert set(rec.steps["channel"]) == {1, 2}
     assert rec.steps["foot"].isna().all() and rec.steps["length"].isna().all()
@@ -231,6 +235,19 @@ def test_foot_contacts_adds_nothing_across_a_halt():
 def test_foot_contacts_rejects_mismatched_inputs():
     with pytest.raises(ValueError, match="3 step times but 2 channels"):
         foot_contacts([0.0, 0.5, 1.0], [1, 2])
+    with pytest.raises(ValueError, match="must be finite; 1 are not"):
+        foot_contacts([0.0, np.nan, 1.0], [1, 2, 1])
+    with pytest.raises(ValueError, match=r"channels must be 1 or 2, got \[1, 3\]"):
+        foot_contacts([0.0, 0.5, 1.0], [1, 3, 1])
+
+
+@pytest.mark.parametrize("rises", [[], [0.0], [0.0, 0.55, 1.1, 1.65]])
+def test_foot_contacts_leaves_a_device_it_cannot_check_alone(rises):
+    """One switch alone (or none): no stride to measure, no other foot to alternate
+    with, so nothing is dropped or added."""
+    contacts = foot_contacts(rises, [1] * len(rises))
+    np.testing.assert_array_equal(contacts.t, rises)
+    assert not contacts.inferred.any() and contacts.bounces == 0
 
 
 @pytest.mark.parametrize(

@@ -69,9 +69,9 @@ class LegHeadings:
     length_m: NDArray[np.float64]
     """Each leg's length between its marks, m."""
     marks_deg: NDArray[np.float64]
-    """The marks' direction less the gyro's median heading along the leg's clear part,
-    after the walk's one best offset, degrees; NaN for a walk of fewer than two legs
-    read."""
+    """The marks' direction less the heading's (the gyro's unless another is given)
+    median along the leg's clear part, after the walk's one best offset, degrees; NaN
+    for a walk of fewer than two legs read."""
     swing_deg: NDArray[np.float64]
     """Peak-to-peak of the heading's :data:`HEADING_MEAN_S` means within the leg's clear
     part, degrees."""

@@ -42,7 +42,7 @@ def _step_rows(t: NDArray[np.float64], extra: dict[str, ArrayLike] | None = None
 BOUNCE_STRIDES = 0.5
 """A channel of the reference device that rises again within this share of a stride
 (the median interval between its own rises) of its last step is the switch bouncing,
-not a step: one foot cannot strike twice within half a stride (0.5–0.65 s at the
+not a step: one foot cannot strike twice within half a stride (0.50–0.59 s at the
 1.7–2 steps/s of these walks)."""
 MISSED_STRIDES = 1.5
 """Two steps of one channel with none of the other between, at most this many strides
@@ -73,15 +73,26 @@ def foot_contacts(t: ArrayLike, channel: ArrayLike) -> FootContacts:
     0.27–0.45 s after its last rise, mid-stride (a bounce: 284 rises where the
     spectrum's cadence says ≈ 264 steps, one channel 151 and the other 133), and in
     one pocket walk a channel rises 144 times against the other's 162, with twelve of
-    its strides two strides long (a missed contact). A rise within
+    its strides two or three strides long (missed contacts: 15 added). That pocket
+    walk's other channel also rises six times 0.29–0.39 s after its own last rise,
+    recurring through the walk (15, 65, 75, 120, 150 s), which are dropped as bounces;
+    whether some are a foot re-planted in a turn, which a step count might count, the
+    recording cannot tell (6 of its 315 steps). A rise within
     :data:`BOUNCE_STRIDES` of a stride of the same channel's last kept step is
     dropped; between two kept steps of one channel with none of the other's between,
     at most :data:`MISSED_STRIDES` strides apart, the other foot's step is added
-    midway. A device that alternates cleanly is returned unchanged.
+    midway. A device that alternates cleanly is returned unchanged, and so is one
+    whose channels cannot be checked against each other (either has fewer than two
+    rises: a stride cannot be measured, or the other foot's steps are not there to
+    alternate with).
 
     Args:
         t: (N,) times of the rises, s.
         channel: (N,) the channel of each rise, 1 or 2.
+
+    Raises:
+        ValueError: a time that is not finite, a channel other than 1 or 2, or
+            lengths that differ.
 
     >>> c = foot_contacts([0.0, 0.5, 0.8, 1.0, 1.5, 2.0, 3.0, 3.5], [1, 2, 2, 1, 2, 1, 1, 2])
     >>> c.t.tolist(), c.channel.tolist(), c.bounces  # channel 2 bounced at 0.8
@@ -93,12 +104,15 @@ def foot_contacts(t: ArrayLike, channel: ArrayLike) -> FootContacts:
     channel = np.asarray(channel, dtype=np.int64).reshape(-1)
     if len(t) != len(channel):
         raise ValueError(f"{len(t)} step times but {len(channel)} channels")
+    if not np.isfinite(t).all():
+        raise ValueError(f"step times must be finite; {int((~np.isfinite(t)).sum())} are not")
+    if not np.isin(channel, (1, 2)).all():
+        raise ValueError(f"channels must be 1 or 2, got {sorted(set(channel.tolist()))}")
     per_channel = [np.sort(t[channel == c]) for c in (1, 2)]
-    intervals = np.concatenate([np.diff(x) for x in per_channel])
-    if not len(intervals):
+    if min(len(x) for x in per_channel) < 2:
         order = np.argsort(t, kind="stable")
         return FootContacts(t[order], channel[order], np.zeros(len(t), dtype=bool), 0)
-    stride = float(np.median(intervals))
+    stride = float(np.median(np.concatenate([np.diff(x) for x in per_channel])))
     kept: list[tuple[float, int]] = []
     bounces = 0
     for c, times in zip((1, 2), per_channel, strict=True):

@@ -367,6 +367,13 @@ def test_the_vigour_fit_keeps_its_closest_pass_not_its_last(monkeypatch):
     assert best.reached == (3.05, 0.4, 0.8) and not best.misses()
 
 
+TWO_PEAKS_S = {"pocketed": (0.28, 0.96), "dangling": (1.02, 1.57)}
+"""Where a pocket's and a swinging hand's first counted step falls after setting off, s:
+the two peaks their walks' lags gather at (walks v9)."""
+UNCOUNTED_S = 3.0
+"""A lag longer than this is a walk whose first steps went uncounted, s."""
+
+
 @pytest.mark.parametrize("mode", ["handheld", "calling", "dangling", "pocketed"])
 def test_the_first_step_lag_table_is_what_the_walks_give(mode):
     """``FIRST_STEP_LAG_S`` (how long after setting off the step detector counts its
@@ -389,8 +396,12 @@ def test_the_first_step_lag_table_is_what_the_walks_give(mode):
         lags.append(_first_step(rec) - float(rec.accel.index[0]) - stand)
     table = FIRST_STEP_LAG_S[mode]
     if mode in ("pocketed", "dangling"):
-        counted = [lag for lag in lags if lag < 3.0]  # not the walks whose first steps
-        assert len(counted) >= 4  # went uncounted for seconds
-        assert min(counted) - 0.05 < table < max(counted) + 0.05
+        # The first count is the peak after the first heel strike or the next; a walk
+        # whose first steps go uncounted for seconds (UNCOUNTED_S) is neither.
+        early, late = TWO_PEAKS_S[mode]
+        counted = [lag for lag in lags if lag < UNCOUNTED_S]
+        assert len(counted) >= 4
+        assert all(min(abs(lag - early), abs(lag - late)) < 0.1 for lag in counted), lags
+        assert early < table < late
     else:
         assert np.median(lags) == pytest.approx(table, abs=0.1)
