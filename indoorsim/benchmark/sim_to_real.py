@@ -521,6 +521,41 @@ def twin_summary(table: pd.DataFrame) -> tuple[pd.DataFrame, float]:
     return out, tau
 
 
+SHARED_TURN_REFERENCE = "pdr-basic"
+"""The estimator whose turn about the start the others' are compared with: it holds the
+gyro's heading from the start heading (the first leg's marks), so its turn is how the
+walk set off against those marks, plus its gyro's drift."""
+
+
+def shared_turns(table: pd.DataFrame, reference: str = SHARED_TURN_REFERENCE) -> pd.DataFrame:
+    """Per estimator other than ``reference``: the correlation over the traces of its
+    signed turn about the start with ``reference``'s, on the real traces (``real``) and
+    on their twins (``sim``, each trace's seeds averaged first); NaN with fewer than
+    three traces or a turn that never varies.
+
+    Every estimator here takes its start heading from the first leg's marks, so a turn
+    the estimators share comes from how the walk set off against them rather than from
+    any one estimator; where they share it on the real traces and not on the twins, the
+    twins set off along the marks more exactly than the real walkers did."""
+    turns = table.groupby(["data", "trace", "estimator"], sort=False)["turn_deg"].mean()
+    rows = []
+    for name in dict.fromkeys(table["estimator"]):
+        if name == reference:
+            continue
+        row = {"estimator": name}
+        for data in ("real", "sim"):
+            both = turns.loc[data].unstack("estimator").reindex(columns=[name, reference])
+            both = both.dropna()
+            spread = both.std().min() if len(both) else 0.0
+            row[data] = (
+                float(np.corrcoef(both[name], both[reference])[0, 1])
+                if len(both) >= 3 and spread > 0
+                else np.nan
+            )
+        rows.append(row)
+    return pd.DataFrame(rows, columns=["estimator", "real", "sim"])
+
+
 def _plot_twins(table: pd.DataFrame, path: Path) -> None:
     from indoorsim.plots import plot_sim_to_real
 
@@ -615,6 +650,20 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
             f"{r['ae_aligned_real']:.2f} | {r['ae_aligned_sim']:.2f} | "
             f"{r['aligned_ratio']:.2f}{_outside_note(r['aligned_ratio'])} |"
         )
+    shared = shared_turns(table).dropna(how="all", subset=["real", "sim"])
+    if len(shared):
+        lines += [
+            "",
+            "How far each turn is shared with `pdr-basic`'s, which holds the gyro's heading "
+            "from the start heading the first leg's marks give (the correlation of the signed "
+            "turns over the traces, real / twins; `shared_turns`): "
+            + "; ".join(
+                f"{r['estimator']} {r['real']:.2f} / {r['sim']:.2f}" for _, r in shared.iterrows()
+            )
+            + ". A turn shared on the real traces and not on the twins is how the real walkers "
+            "set off against the first leg's marks, which the twins, walking from mark to "
+            "mark, do not show.",
+        ]
     lines += [
         "",
         "![real against simulated error per trace](sim_to_real.png)",

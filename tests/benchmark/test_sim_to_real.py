@@ -17,6 +17,7 @@ from indoorsim.benchmark.sim_to_real import (
     _path_ratio,
     as_real_log,
     passing_times,
+    shared_turns,
     twin_summary,
     walk_signals,
     waypoint_lead,
@@ -199,6 +200,31 @@ def _scores() -> pd.DataFrame:
                     }
                 )
     return pd.DataFrame(rows)
+
+
+def test_shared_turns_correlate_each_estimators_turn_with_the_references():
+    """On the real traces one estimator turns as the reference does (2·turn + 1: r = 1),
+    on the twins against it (r = −1, each trace's two seeds averaged first); one that
+    never turns has no correlation."""
+    reference = {"t1": 5.0, "t2": -10.0, "t3": 15.0, "t4": 0.0}
+    rows = []
+    for trace, turn in reference.items():
+        rows += [
+            {"trace": trace, "data": "real", "estimator": "pdr-basic", "turn_deg": turn},
+            {"trace": trace, "data": "real", "estimator": "x", "turn_deg": 2 * turn + 1},
+            {"trace": trace, "data": "real", "estimator": "still", "turn_deg": 0.0},
+        ]
+        for jitter in (-3.0, 3.0):  # two seeds a trace
+            rows += [
+                {"trace": trace, "data": "sim", "estimator": "pdr-basic", "turn_deg": turn},
+                {"trace": trace, "data": "sim", "estimator": "x", "turn_deg": -turn + jitter},
+                {"trace": trace, "data": "sim", "estimator": "still", "turn_deg": 0.0},
+            ]
+    shared = shared_turns(pd.DataFrame(rows)).set_index("estimator")
+    assert list(shared.index) == ["x", "still"]
+    assert shared.loc["x", "real"] == pytest.approx(1.0)
+    assert shared.loc["x", "sim"] == pytest.approx(-1.0)
+    assert shared.loc["still"].isna().all()
 
 
 def test_the_summary_gives_each_estimators_real_to_sim_ratio_and_the_rank_agreement():
