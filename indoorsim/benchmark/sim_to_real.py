@@ -537,22 +537,21 @@ def shared_turns(table: pd.DataFrame, reference: str = SHARED_TURN_REFERENCE) ->
     the estimators share comes from how the walk set off against them rather than from
     any one estimator; where they share it on the real traces and not on the twins, the
     twins set off along the marks more exactly than the real walkers did."""
+    # One row a trace, one column an estimator, per side.
     turns = table.groupby(["data", "trace", "estimator"], sort=False)["turn_deg"].mean()
-    rows = []
-    for name in dict.fromkeys(table["estimator"]):
-        if name == reference:
-            continue
-        row = {"estimator": name}
-        for data in ("real", "sim"):
-            both = turns.loc[data].unstack("estimator").reindex(columns=[name, reference])
-            both = both.dropna()
-            spread = both.std().min() if len(both) else 0.0
-            row[data] = (
-                float(np.corrcoef(both[name], both[reference])[0, 1])
-                if len(both) >= 3 and spread > 0
-                else np.nan
-            )
-        rows.append(row)
+    by_data = {data: turns.loc[data].unstack("estimator") for data in ("real", "sim")}
+
+    def correlation(wide: pd.DataFrame, name: str) -> float:
+        both = wide.reindex(columns=[name, reference]).dropna()
+        if len(both) < 3 or both.std().min() == 0:
+            return np.nan
+        return float(np.corrcoef(both[name], both[reference])[0, 1])
+
+    rows = [
+        {"estimator": name} | {data: correlation(wide, name) for data, wide in by_data.items()}
+        for name in dict.fromkeys(table["estimator"])
+        if name != reference
+    ]
     return pd.DataFrame(rows, columns=["estimator", "real", "sim"])
 
 

@@ -74,21 +74,27 @@ def bounce_waveform(phase: NDArray[np.float64], width: float) -> NDArray[np.floa
     is the sinusoidal bounce of the compass gait; a narrow one makes the
     impulsive, harmonic-rich ‖a‖ of real walking.
     """
-    k = np.arange(1, _BOUNCE_HARMONICS + 1)
-    weight = np.exp(-0.5 * (2.0 * np.pi * k * width) ** 2) / k**2
+    k, accel = _loading_peak(width)
     grid = np.linspace(0.0, 1.0, 513)[:-1]
-    unit = -(weight * np.cos(2.0 * np.pi * np.outer(grid, k))).sum(axis=1)
-    scale = 1.0 / float(np.ptp(unit))
-    # cos(k·x) by the angle-addition recurrence from cos x and sin x: one pair of
-    # transcendental calls per sample instead of one per harmonic.
-    x = 2.0 * np.pi * (phase - _DOUBLE_SUPPORT_PHASE)
-    c1, s1 = np.cos(x), np.sin(x)
-    ck, sk = c1.copy(), s1.copy()
-    out = weight[0] * c1
-    for w in weight[1:]:
-        ck, sk = ck * c1 - sk * s1, sk * c1 + ck * s1
-        out += w * ck
-    return -scale * out
+    scale = _offset_scale(accel, k, 2.0 * np.pi * np.outer(grid, k))
+    weight = accel / k**2
+    return -scale * harmonic_series(phase - _DOUBLE_SUPPORT_PHASE, weight)
+
+
+def _loading_peak(width: float) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """The step rate's harmonics k of the loading peak and their relative amplitudes in
+    the acceleration, exp(−(2πk·width)²/2) (:func:`bounce_waveform`)."""
+    k = np.arange(1, _BOUNCE_HARMONICS + 1)
+    return k, np.exp(-0.5 * (2.0 * np.pi * k * width) ** 2)
+
+
+def _offset_scale(
+    accel: NDArray[np.float64], k: NDArray[np.int64], angles: NDArray[np.float64]
+) -> float:
+    """1 / the peak to peak of the offset whose acceleration harmonics are ``accel``,
+    over a step sampled at ``angles`` ((N, H): each sample's k·x): the scale that makes
+    the bounce's offset 1 peak to peak."""
+    return 1.0 / float(np.ptp(-(accel / k**2 * np.cos(angles)).sum(axis=1)))
 
 
 _SURGE_HARMONICS = 8
@@ -140,12 +146,11 @@ def surge_waveforms(
     """
     grid = np.arange(512) / 512.0
     x = 2.0 * np.pi * (grid - _DOUBLE_SUPPORT_PHASE)
-    k = np.arange(1, _BOUNCE_HARMONICS + 1)
     # u: the loading peak's acceleration for a bounce of peak to peak 1 (in units of
     # (2π/T)²·bounce), the second derivative of bounce_waveform's offset.
-    weight = np.exp(-0.5 * (2.0 * np.pi * k * width) ** 2)
-    offset_scale = 1.0 / float(np.ptp(-(weight / k**2 * np.cos(np.outer(x, k))).sum(axis=1)))
-    loading = offset_scale * (weight * np.cos(np.outer(x, k))).sum(axis=1)
+    k, weight = _loading_peak(width)
+    angles = np.outer(x, k)
+    loading = _offset_scale(weight, k, angles) * (weight * np.cos(angles)).sum(axis=1)
     share = np.clip(grid / double_support, 0.0, 1.0)
     share = share * share * (3.0 - 2.0 * share)  # of the load on the leading leg
     lever = share * (grid - 0.5 - cop_travel_steps * grid) + (1.0 - share) * (
