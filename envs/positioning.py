@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v9`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v10`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -243,11 +243,15 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       where it was one sinusoid; ``WalkerParams.speed_oscillation`` gave way to
       ``double_support`` and ``cop_travel_m``): a seed gives other observations and
       errors. Spaces, rewards and arguments are unchanged.
+    - v10: the walks changed (the swinging arm's elbow is the forearm's gravity
+      pendulum stiffened a little, 1.1–1.25 Hz, where 1.3–1.8 Hz rang near the step
+      rate): a dangling seed gives other observations and errors. Spaces, rewards and
+      arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v9")
+        >>> env = gym.make("indoorsim/MinimalRoom-v10")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)

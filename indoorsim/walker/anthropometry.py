@@ -28,6 +28,7 @@ __all__ = [
     "UPPER_ARM",
     "arm_about_shoulder",
     "bent_eyes",
+    "hanging_forearm",
     "shoulder_joint",
 ]
 
@@ -103,3 +104,29 @@ def arm_about_shoulder(
         m * ((c - shoulder)[0] ** 2 + (c - shoulder)[2] ** 2 + rho**2) for m, c, rho in segments
     )
     return float(first), float(second)
+
+
+def hanging_forearm(height_m: float) -> tuple[float, float]:
+    """The forearm with the hand and the phone at the grip, hanging from the elbow:
+    its moments about the elbow per kilogram of body mass, S = Σ m·d and
+    J = Σ m·(d² + ρ²) (d from the elbow along the forearm, ρ each part's radius of
+    gyration), as the two numbers the linearised swinging arm needs:
+
+    - ω_g² = g·S/J (1/s²), the forearm's own gravity pendulum (0.93 Hz at 1.75 m:
+      S/J scales as 1/height, 3.5 /m there);
+    - S·u/J, by which the upper arm's angular acceleration θ̈ whips the forearm on
+      through the elbow's tangential acceleration u·θ̈ (u the upper arm's length).
+
+    With φ the elbow's flexion forward of the upper arm's line and θ the upper arm's
+    angle from the vertical, J·(θ̈ + φ̈) + S·u·θ̈ = −g·S·(θ + φ) − (the elbow's muscle
+    and damping): φ̈ + 2ζω_n·φ̇ + ω_n²·φ = −(1 + S·u/J)·θ̈ − ω_g²·θ, where ω_n² is
+    ω_g² plus the muscles' tone over J."""
+    fore_len = FOREARM * height_m
+    grip = (ARM_LENGTH - UPPER_ARM) * height_m
+    parts = (
+        (FOREARM_MASS, FOREARM_COM * fore_len, FOREARM_GYRATION * fore_len),
+        (HAND_MASS + PHONE_MASS_FRACTION, grip, HAND_GYRATION * HAND * height_m),
+    )
+    first = sum(m * d for m, d, _ in parts)
+    second = sum(m * (d**2 + rho**2) for m, d, rho in parts)
+    return 9.81 * first / second, first * UPPER_ARM * height_m / second

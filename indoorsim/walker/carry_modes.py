@@ -55,6 +55,7 @@ from indoorsim.walker.anthropometry import (
     arm_about_shoulder,
     bent_eyes,
     body_side,
+    hanging_forearm,
     shoulder_joint,
 )
 from indoorsim.walker.gait import PELVIS_HEIGHT_RATIO, BodyTrajectory
@@ -486,16 +487,24 @@ class Dangling(CarryMode):
     close to that amplitude, in antiphase with the same-side leg, while
     starting, stopping, bouncing and heel strikes perturb it as they would.
     The forearm hangs from the elbow, held by muscle like a damped spring
-    (:func:`~.limbs.oscillator`): the upper arm's swing whips it on (the linearised
-    double pendulum), so the hand swings further and faster than the shoulder,
-    and it pronates as the arm swings back and supinates forward. The hand
-    hangs from the wrist in the same way, in two planes: in the swing's it is
-    whipped on by the forearm, and in both it is shaken by what the arm passes
-    down from the shoulder (the trunk's bounce, sway and heel-strike jolts) and
-    by the arm's sideways arc. Those turns about axes through the wrist, a
-    hand's length from the phone, turn the phone about its small axes at the
-    rates real swinging phones show (≈ 2.0 and 1.8 rad/s RMS) with little
-    linear acceleration. The phone
+    (:func:`~.limbs.oscillator`): the upper arm's swing whips it on and gravity pulls
+    it back under the elbow as the upper arm leans (the linearised double pendulum,
+    :func:`~.anthropometry.hanging_forearm`), and it pronates as the arm swings back
+    and supinates forward. The hand hangs from the wrist in the same way, in two
+    planes: in the swing's it is whipped on by the forearm, and in both it is shaken
+    by what the arm passes down from the shoulder (the trunk's bounce, sway and
+    heel-strike jolts) and by the arm's sideways arc, and gravity pulls it back under
+    the wrist. Those turns about axes through the wrist, a hand's length from the
+    phone, turn the phone about its small axes with little linear acceleration.
+
+    Against real swinging phones (``leaderboards/realism.md``) this passive chain puts
+    ‖a‖'s power where the Oxford swinging-arm walks have it more nearly than before
+    gravity pulled on the forearm and hand (at the step rate 0.46–0.65 of it, real
+    0.68–0.70; at the stride rate 0.16–0.19, real 0.12), but it turns the phone more
+    slowly than the reviewers' real swinging phones turn (gyro RMS 1.8–2.5 / 1.4–2.0
+    / 1.1–1.5 rad/s against ≈ 3.5 / 2.0 / 1.8): what turns a real swung phone faster
+    — a hand that swings the phone actively rather than letting it hang — is not
+    modelled. The phone
     lies diagonally across the palm, its top forward and down and its screen
     outward, the palm turned a little back.
     """
@@ -504,7 +513,10 @@ class Dangling(CarryMode):
     hand: Literal["right", "left"] = "right"
     """The hand holding the phone."""
     swing_deg: float | None = None
-    """Swing amplitude about the shoulder; None draws it from 15–25° per use."""
+    """Swing amplitude about the shoulder; None draws it from ``swing_range_deg`` per use."""
+    swing_range_deg: tuple[float, float] = (15.0, 25.0)
+    """Range of the swing amplitude about the shoulder, drawn per use when ``swing_deg``
+    is None [E]."""
     palm_turn_deg: tuple[float, float] = (20.0, 45.0)
     """Range of the hand's turn about the forearm, from the palm facing the thigh
     toward facing back (a relaxed, hanging forearm is a little pronated), drawn
@@ -524,21 +536,23 @@ class Dangling(CarryMode):
     """Shoulder muscle stiffness, raising the arm's natural frequency to ≈ 0.8 Hz [E]."""
     physics_rate_hz: float = 30.0
     """Step rate of the pymunk pendulum (upsampled with a C² spline)."""
-    elbow_natural_hz: tuple[float, float] = (1.3, 1.8)
-    """Range of the hanging forearm's natural frequency about the elbow (its
-    gravity pendulum, ≈ 1 Hz, stiffened by muscle tone), drawn per use: with
-    ``elbow_damping`` the elbow flexes and extends 21–49° peak to peak per stride
-    at a ±20° swing (≈ 30° in the middle of both ranges), the spread measured in
-    normal gait (29.7 ± 10.2°, Kang et al., Clin Shoulder Elb 26:126, 2023) [E]."""
+    elbow_natural_hz: tuple[float, float] = (1.0, 1.15)
+    """Range of the hanging forearm's natural frequency about the elbow, drawn per use:
+    its gravity pendulum (0.93 Hz for a 1.75 m walker,
+    :func:`~.anthropometry.hanging_forearm`), stiffened a little by muscle tone [E].
+    The elbow then flexes and extends 29–35° peak to peak per stride at a 15–25°
+    swing, as measured in normal gait (29.7 ± 10.2°, Kang et al., Clin Shoulder Elb
+    26:126, 2023). A stiffer elbow puts its resonance near the step rate: at 1.3 Hz the
+    bundled sites' walks put 0.29–0.50 of ‖a‖'s power at the step rate and 0.21–0.29
+    at the stride rate (the Oxford swinging-arm walks: 0.68–0.70 and 0.12), and on
+    some walks ‖a‖'s spectral peak leaves the step rate."""
     elbow_damping: tuple[float, float] = (0.4, 0.55)
     """Range of the elbow's damping ratio, drawn per use [E]. The elbow's
     flexors and extensors co-contract to steady the forearm, so it is damped
-    well below its own ringing: its flexion lags the shoulder's swing by 28–56°
-    of the stride (a quarter to a sixth of it), and the step-rate jolts that
-    reach it through the shoulder are passed on, not amplified (gain 0.6–1.25 at
-    twice the stride rate; a lightly damped elbow, 0.2–0.4, rings at the step
-    rate and, beating with the swing, puts too much of ‖a‖'s power at the
-    stride rate and too little at the step rate: leaderboards/realism.md)."""
+    well below its own ringing, and the step-rate jolts that reach it through the
+    shoulder are passed on, not amplified. Its swing stays in the range measured in
+    normal gait (above): at 0.25–0.35 the elbow flexes 43–52° peak to peak per
+    stride."""
     twist_deg: tuple[float, float] = (5.5, 8.5)
     """Range of the forearm's pronation–supination amplitude with the swing, drawn
     per use: 11–17° peak to peak (14.2 ± 3.2° measured in normal gait, Kang et
@@ -565,15 +579,19 @@ class Dangling(CarryMode):
         length = ARM_LENGTH * h
         frame = limbs.body_frame(body.yaw)
         shoulder = body.pos + limbs.apply(frame, shoulder_joint(h, side))
-        swing = math.radians(self.swing_deg if self.swing_deg is not None else rng.uniform(15, 25))
+        swing = math.radians(
+            self.swing_deg if self.swing_deg is not None else rng.uniform(*self.swing_range_deg)
+        )
         theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)
-        # The forearm about the elbow: the upper arm's angular acceleration drives it,
-        # by (1 + upper / forearm) for a forearm whose mass sits at the grip.
+        # The forearm about the elbow (anthropometry.hanging_forearm): the upper arm's
+        # angular acceleration whips it on, and gravity pulls it back under the elbow
+        # as the upper arm leans — the two nearly cancel at the stride rate.
         upper = UPPER_ARM * h
         forearm = length - upper
+        gravity, whip = hanging_forearm(h)
         theta_acc = limbs.acceleration(theta, body.t)
         flex = limbs.oscillator(
-            -(1.0 + upper / forearm) * theta_acc,
+            -(1.0 + whip) * theta_acc - gravity * theta,
             rng.uniform(*self.elbow_natural_hz),
             rng.uniform(*self.elbow_damping),
             body.rate_hz,
@@ -598,9 +616,11 @@ class Dangling(CarryMode):
         # forearm's own swing and arc, and everything the arm passes down from the
         # shoulder (the trunk's bounce, sway and heel-strike jolts), as the
         # wrist's acceleration across the hand on the lever of the hand's centre
-        # of mass: θ̈_hand = −(arm's angular acceleration) − a⊥ / lever (gravity's
-        # pull is in the wrist's natural frequency, as the elbow's).
-        wrist_acc = limbs.acceleration(shoulder + limbs.apply(arm_frame, to_wrist), body.t)
+        # of mass, and gravity across it: θ̈_hand = −(arm's angular acceleration)
+        # − (a + g)⊥ / lever, with a the wrist's acceleration and g gravity's pull
+        # (its share from the hand's own turn is in the wrist's natural frequency).
+        wrist = shoulder + limbs.apply(arm_frame, to_wrist)
+        wrist_pull = limbs.acceleration(wrist, body.t) + np.array([0.0, 0.0, _G])
         ahead = limbs.apply(
             arm_frame, np.column_stack([np.cos(arm), np.zeros_like(arm), np.sin(arm)])
         )
@@ -608,10 +628,11 @@ class Dangling(CarryMode):
 
         def wrist_turn(arm_angle: NDArray[np.float64], across: NDArray[np.float64]):
             # One plane of the wrist: a damped spring under the arm's angular
-            # acceleration in that plane and the wrist's acceleration across the hand.
+            # acceleration in that plane and the wrist's acceleration and gravity
+            # across the hand.
             drive = (
                 -limbs.acceleration(arm_angle, body.t)
-                - np.einsum("ij,ij->i", wrist_acc, across) / grip_lever
+                - np.einsum("ij,ij->i", wrist_pull, across) / grip_lever
             )
             natural = rng.uniform(*self.wrist_natural_hz)
             return limbs.oscillator(drive, natural, rng.uniform(*self.wrist_damping), body.rate_hz)

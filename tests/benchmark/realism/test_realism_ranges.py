@@ -84,9 +84,11 @@ INSIDE = {
         "gyro_rms_2",
         "gyro_rms_3",
     },
-    # share_2nd: 0.0188 on the generated basement (real from 0.02) since v9: the
-    # shoulder's forward surge at the step rate beats with the stride-rate swing and
-    # moves ‖a‖'s power to the stride rate (0.18-0.25, real 0.12).
+    # share_2nd: 0.018 on the generated basement (real from 0.02). The stride-rate
+    # share (0.16-0.19 since v10, real 0.12) comes with the shoulder's forward surge:
+    # scaled to zero, the share is 0.01. Gyro: the passive arm, forearm and hand
+    # turn the phone more slowly (1.8-2.5 rad/s on the largest axis) than the
+    # reviewers' real swinging phones (about 3.5).
     "dangling": {"step_hz", "acc_crest", "acc_kurtosis"},
     "pocketed": {
         "step_hz",
