@@ -243,10 +243,11 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       where it was one sinusoid; ``WalkerParams.speed_oscillation`` gave way to
       ``double_support`` and ``cop_travel_m``): a seed gives other observations and
       errors. Spaces, rewards and arguments are unchanged.
-    - v10: the walks changed (the swinging arm's elbow is the forearm's gravity
-      pendulum stiffened a little, 1.1–1.25 Hz, where 1.3–1.8 Hz rang near the step
-      rate): a dangling seed gives other observations and errors. Spaces, rewards and
-      arguments are unchanged.
+    - v10: the walks changed (the walker weaves a few centimetres off the line it
+      means to walk, ``WalkerParams.meander_m``; the swinging arm's forearm and hand
+      are pulled back under the elbow and wrist by gravity, the elbow 1.0–1.15 Hz
+      where 1.3–1.8 Hz rang near the step rate): a seed gives other observations and
+      errors. Spaces, rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym

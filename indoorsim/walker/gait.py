@@ -52,6 +52,7 @@ from scipy.linalg.lapack import dgtsv
 from scipy.ndimage import gaussian_filter1d
 from scipy.signal import lfilter
 
+from indoorsim.walker.meander import keep_room, lateral_meander
 from indoorsim.walker.motion import impulse_displacement, intra_step_motion
 from indoorsim.walker.path import SmoothPath, cumsum0, first_pass, hermite_spline
 from indoorsim.walker.physics import steer
@@ -109,6 +110,9 @@ _STOP_GAP_M = 3.0
 _SPLINE_TAIL_S = 4.0
 # Where within each step a bout checks the yaw rate.
 _STEP_FRACTIONS = np.linspace(0.0, 1.0, 17)
+# The walker's weave keeps the body this much farther from a wall than the body disc's
+# radius (m): people do not brush walls as they walk (meander.keep_room).
+_WEAVE_MARGIN_M = 0.05
 
 
 def step_length_m(speed_mps: ArrayLike, height_m: float = 1.70) -> NDArray[np.float64]:
@@ -250,6 +254,20 @@ class WalkerParams:
     """Range of the relative difference in bounce between left and right steps,
     drawn per walk (either leg the stronger): gait asymmetry indices of healthy
     walkers reach 5–15 % in vertical ground reaction force [E]."""
+    meander_m: tuple[float, float] = (0.07, 0.12)
+    """Range of the RMS of the walker's sideways weave off the line it means to walk,
+    drawn per walk (:mod:`~indoorsim.walker.meander`). With ``meander_wavelength_m``
+    it is what the real ARKit walks' straight stretches show through
+    :mod:`indoorsim.benchmark.realism.line` (1.85–2.84 cm and 1.72–2.62° once the stride
+    is averaged out over 6 m; the bundled and generated sites' walks: 1.91–2.52 cm and
+    1.89–2.38°). Independently, the ILC traces' twins now turn within their straight
+    legs as their real surveyors do (the heading's swing within a leg, 2 s means: 5.42°,
+    real 5.69°; 3.08° walking on rails)."""
+    meander_wavelength_m: float = 5.0
+    """Natural wavelength of that weave (m): its heading's departure has an RMS of
+    2π·RMS/(wavelength·√5), 2.9° for the middle of ``meander_m``."""
+    meander_fade_m: float = 4.0
+    """Distance over which the weave fades in after the start and out before the end (m)."""
     physics_rate_hz: float = 25.0
     """Step rate of the pymunk body simulation."""
 
@@ -286,6 +304,9 @@ class WalkerParams:
             "heel_strike_mps2": 0 <= self.heel_strike_mps2[0] <= self.heel_strike_mps2[1],
             "loading_width": 0.03 <= self.loading_width[0] <= self.loading_width[1] <= 0.5,
             "loading_asymmetry": 0 <= self.loading_asymmetry[0] <= self.loading_asymmetry[1] < 1,
+            "meander_m": 0 <= self.meander_m[0] <= self.meander_m[1] <= 0.5,
+            "meander_wavelength_m": self.meander_wavelength_m > 0,
+            "meander_fade_m": self.meander_fade_m >= 0,
             "physics_rate_hz": 10 <= self.physics_rate_hz <= 200,
         }
         bad = [name for name, ok in checks.items() if not ok]
@@ -456,28 +477,19 @@ def walk(
     timeline = _Timeline(bouts, dwells)
     duration = t_now + params.stand_end_s
 
-    # Macro track: the pymunk body steered through the planned knots (physics.py), then C².
+    # Samples: the physics' and the output's. A few samples past a cut keep the derived
+    # speed central at the cut itself; the physics runs a little past the end, so that
+    # the spline through its track has the same values up to the end as the whole
+    # walk's would (a cubic spline's end condition fades by ~4× per knot).
     dt_phys = 1.0 / params.physics_rate_hz
-    # A few samples past a cut keep the derived speed central at the cut itself.
     end = duration if until_s is None else min(duration, max(until_s, 0.0) + 0.05)
-    # The physics runs a little past the end, so that the spline through its
-    # track has the same values up to the end as the whole walk's would (a
-    # cubic spline's end condition fades by ~4× per knot).
     phys_end = min(duration, end + _SPLINE_TAIL_S)
     t_phys = np.arange(math.ceil(phys_end / dt_phys) + 1) * dt_phys
-    track = steer(plan, path.position(timeline.distance(t_phys)), dt_phys, params.body_radius_m)
     t = np.arange(math.floor(end * rate_hz + 1e-9) + 1) / rate_hz
-    macro = CubicSpline(t_phys, track, axis=0)(t)
 
-    # Intra-step motion on top, in the walking direction's frame (motion.py).
+    # Intra-step motion, in the walking direction's frame (motion.py).
     phase = timeline.phase(t)
     env = timeline.envelope(t)
-    heading = path.heading(timeline.distance(t)) + timeline.pivot_heading(t)
-    turn_s = min(params.start_turn_s, params.stand_start_s)
-    if params.start_turn_deg and turn_s > 0:
-        # Standing turned, then turning on the spot to face the first leg.
-        done = smootherstep((t - (params.stand_start_s - turn_s)) / turn_s)
-        heading = heading + math.radians(params.start_turn_deg) * (1.0 - done)
     stride = np.mod((phase - (1.0 if first_left else 0.0)) / 2.0, 1.0)
     steps = timeline.steps()
     leg = PELVIS_HEIGHT_RATIO * height
@@ -503,6 +515,41 @@ def walk(
         loading_asymmetry=params.loading_asymmetry,
         rng=rng,
     )
+    # The walker's own weave off the line it means to walk (meander.py), drawn last so
+    # that the walk's other draws are those of a walker without it.
+    meander = lateral_meander(
+        path.length,
+        rng.uniform(*params.meander_m),
+        params.meander_wavelength_m,
+        params.meander_fade_m,
+        rng,
+    )
+    meander = keep_room(
+        meander,
+        path.position(meander.s),
+        path.heading(meander.s),
+        plan,
+        params.body_radius_m + _WEAVE_MARGIN_M,
+    )
+
+    # Macro track: the pymunk body steered through the planned knots, moved aside by
+    # the weave (physics.py), then C².
+    s_phys = timeline.distance(t_phys)
+    aside, weave = meander.at(s_phys)
+    normal = path.heading(s_phys) + 0.5 * math.pi
+    aim = path.position(s_phys) + aside[:, None] * np.column_stack([np.cos(normal), np.sin(normal)])
+    track = steer(plan, aim, dt_phys, params.body_radius_m)
+    # The track and the turn the weave's slope gives the body, C² through the physics'
+    # samples (the weave varies over metres, the physics' samples are centimetres apart).
+    macro_turn = CubicSpline(t_phys, np.column_stack([track, np.arctan(weave)]), axis=0)(t)
+    macro = macro_turn[:, :2]
+    # The body faces its way along the path, turned by the weave.
+    heading = path.heading(timeline.distance(t)) + macro_turn[:, 2] + timeline.pivot_heading(t)
+    turn_s = min(params.start_turn_s, params.stand_start_s)
+    if params.start_turn_deg and turn_s > 0:
+        # Standing turned, then turning on the spot to face the first leg.
+        done = smootherstep((t - (params.stand_start_s - turn_s)) / turn_s)
+        heading = heading + math.radians(params.start_turn_deg) * (1.0 - done)
     fwd, lat = within.forward, within.lateral
     ch, sh = np.cos(heading), np.sin(heading)
     # x and y as contiguous rows: np.gradient along rows is cheaper than down

@@ -73,9 +73,10 @@ def corridor() -> FloorPlan:
 
 @pytest.fixture(scope="session")
 def straight_body(corridor: FloorPlan) -> BodyTrajectory:
-    """38 m of straight walking at 1.3 m/s, without slow speed drift or asymmetry."""
+    """38 m of straight walking at 1.3 m/s, without slow speed drift, asymmetry or
+    weave (meander)."""
     route = plan_route(corridor, RouteSpec(waypoints=[(1.0, 1.5), (39.0, 1.5)], speed=1.3))
-    params = WalkerParams(speed_cv=0.0, asymmetry=0.0)
+    params = WalkerParams(speed_cv=0.0, asymmetry=0.0, meander_m=(0.0, 0.0))
     return walk(corridor, route, params, np.random.default_rng(11))
 
 

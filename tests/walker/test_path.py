@@ -26,7 +26,9 @@ def test_walker_keeps_its_distance_from_a_wall_the_route_hugs(corridor):
 
 def test_a_right_angle_takes_a_few_steps_and_slows_the_walker(l_plan):
     route = plan_route(l_plan, RouteSpec(waypoints=[(1.0, 1.0), (11.0, 1.0), (11.0, 9.0)]))
-    body = walk(l_plan, route, WalkerParams(speed_cv=0.0), np.random.default_rng(5))
+    # Without the weave, whose turns would blur the corner's.
+    params = WalkerParams(speed_cv=0.0, meander_m=(0.0, 0.0))
+    body = walk(l_plan, route, params, np.random.default_rng(5))
     turned = body.heading - body.heading[0]
     t10, t90 = np.interp([0.1, 0.9], turned / (math.pi / 2), body.t)
     steps_in_turn = np.diff(np.interp([t10, t90], body.t, body.step_phase))[0]
@@ -40,8 +42,9 @@ def test_sharp_reversal_turns_on_the_spot(corridor):
     route = plan_route(corridor, RouteSpec(waypoints=[(2.0, 1.5), (10.0, 1.5), (3.0, 1.5)]))
     body = walk(corridor, route, WalkerParams(), np.random.default_rng(0))
     assert body.heading[-1] - body.heading[0] == pytest.approx(math.pi, abs=1e-9)
-    turning = np.abs(np.gradient(body.heading, body.t)) > 1e-3
-    assert not (turning & body.moving).any()
+    # Walking, the body turns only with its weave (a few °/s); the reversal is on the spot.
+    turning = np.abs(np.gradient(body.heading, body.t)) > math.radians(20.0)
+    assert turning.any() and not (turning & body.moving).any()
     assert np.degrees(np.abs(np.gradient(body.heading, body.t))).max() <= 150.0
     assert_inside(corridor, body)
 

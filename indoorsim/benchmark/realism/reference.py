@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from indoorsim.benchmark.realism.line import LINE_KEYS, line_statistics
 from indoorsim.benchmark.realism.magnetic import MAGNETIC_KEYS, magnetic_statistics
 from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_profiles, motion_statistics
 from indoorsim.benchmark.realism.radio import (
@@ -39,6 +40,7 @@ from indoorsim.walker.real_walkers import VIGOUR_FIELDS
 __all__ = [
     "HELD_FLAT",
     "LIGHT_MODE",
+    "LINE_MODE",
     "MAGNETIC_MODE",
     "MAGNETIC_SOURCES",
     "QUOTED_RANGES",
@@ -119,6 +121,10 @@ MAGNETIC_SOURCES = (
 
 MAGNETIC_MODE = "magnetic"
 """The ``mode`` of the magnetic rows: the field is the building's, whatever the carry."""
+
+LINE_MODE = "walking line"
+"""The ``mode`` of the walked line's rows (the walker's weave, measured where positions
+are dense: the magnetic-SLAM walks' ARKit track, a simulated walk's truth)."""
 
 RADIO_MODE = "wifi"
 """The ``mode`` of the WiFi rows."""
@@ -271,20 +277,25 @@ def real_walker_table(realdata: Path) -> pd.DataFrame:
 def real_magnetic_table(realdata: Path) -> pd.DataFrame:
     """Along-path field statistics of every real walk with a magnetometer and positions,
     one row per walk (walks shorter than
-    :data:`~indoorsim.benchmark.realism.magnetic.MIN_PATH_M` get NaN statistics)."""
-    rows = [
-        {
-            "dataset": source.name,
-            "walk": path.name,
-            "mode": MAGNETIC_MODE,
-            "phone": source.phone,
-            "licence": source.licence,
-            **magnetic_statistics(Recording.load(path)),
-        }
-        for source in MAGNETIC_SOURCES
-        for path in sorted(realdata.glob(source.pattern))
-    ]
-    columns = ["dataset", "walk", "mode", "phone", "licence", *MAGNETIC_KEYS]
+    :data:`~indoorsim.benchmark.realism.magnetic.MIN_PATH_M` get NaN statistics), and
+    the walked line's (:mod:`~indoorsim.benchmark.realism.line`: NaN where the
+    positions are surveyed waypoints, not a track)."""
+    rows = []
+    for source in MAGNETIC_SOURCES:
+        for path in sorted(realdata.glob(source.pattern)):
+            rec = Recording.load(path)
+            rows.append(
+                {
+                    "dataset": source.name,
+                    "walk": path.name,
+                    "mode": MAGNETIC_MODE,
+                    "phone": source.phone,
+                    "licence": source.licence,
+                }
+                | magnetic_statistics(rec)
+                | line_statistics(rec)
+            )
+    columns = ["dataset", "walk", "mode", "phone", "licence", *MAGNETIC_KEYS, *LINE_KEYS]
     return pd.DataFrame(rows, columns=columns)
 
 

@@ -20,6 +20,7 @@ import pytest
 from indoorsim.benchmark.realism.motion import HELD_KEYS, HELD_MODE, motion_statistics
 from indoorsim.benchmark.realism.reference import (
     LIGHT_MODE,
+    LINE_MODE,
     MAGNETIC_MODE,
     MODELLED_MODES,
     RADIO_MODE,
@@ -30,6 +31,7 @@ from indoorsim.benchmark.realism.reference import (
 from indoorsim.benchmark.realism.report import (
     COMPARED,
     COMPARED_LIGHT,
+    COMPARED_LINE,
     COMPARED_MAGNETIC,
     COMPARED_RADIO,
     RealismConfig,
@@ -58,8 +60,8 @@ INSIDE = {
         # ILC surveyors (3.7 median) alone.
         "share_stride",
         "gyro_rms_1",
-        # heading_jitter: 1.71-1.74° on three sites (real from 1.8°) since the arm turns
-        # about the shoulder (v8), 1.85 on the fourth.
+        # Inside since the walker weaves off its line (v10: 1.87-2.15°; 1.71-1.85 before).
+        "heading_jitter",
         "gyro_drift",
         "surge_step",
         "sway_stride",
@@ -120,6 +122,7 @@ INSIDE_ENVIRONMENT: dict[str, set[str]] = {
         "miss_share",
     },
     LIGHT_MODE: {"lux_median", "lux_median_car_park"},
+    LINE_MODE: {"weave_cm", "weave_deg"},
 }
 """Magnetic, WiFi and light statistics inside their real range on every site, each
 generated kind by its median building (the issue "Environment realism": the generated
@@ -149,6 +152,7 @@ _ENVIRONMENT = (
     [(MAGNETIC_MODE, key) for key in COMPARED_MAGNETIC]
     + [(RADIO_MODE, key) for key in COMPARED_RADIO]
     + [(LIGHT_MODE, key) for key in COMPARED_LIGHT]
+    + [(LINE_MODE, key) for key in COMPARED_LINE]
 )
 
 
@@ -190,6 +194,7 @@ def test_every_pinned_statistic_has_a_real_range():
     assert INSIDE_ENVIRONMENT[MAGNETIC_MODE] <= set(COMPARED_MAGNETIC)
     assert INSIDE_ENVIRONMENT[RADIO_MODE] <= set(COMPARED_RADIO)
     assert INSIDE_ENVIRONMENT[LIGHT_MODE] <= set(COMPARED_LIGHT)
+    assert INSIDE_ENVIRONMENT[LINE_MODE] <= set(COMPARED_LINE)
 
 
 @pytest.mark.parametrize(("mode", "key"), [_case(m, k) for m, k in _JUDGED])
