@@ -45,13 +45,14 @@ carrying modes with changes, each walk with the vigour of one real walker
 traces the real-trace table scores, so their vigour, though never their sensor
 data, is seen in training), the IMU at 50 Hz in 2 s windows every 1 s: 80 427
 windows, 72 sites to train on, 9 to validate, 9 to test. Final losses of the
-members (m²/s², mean of both velocity components): train 0.0292–0.0295, val
-0.0284–0.0291, test 0.0413–0.0427 — an RMS velocity error of about 0.20 m/s per
-axis on the test buildings. (Retrained when the body's forward surge became the
-ground's push through the stance leg, walks v9, :func:`indoorsim.walker.motion.surge_waveforms`:
-every walk moved; before it, 0.0331–0.0335, 0.0313–0.0328 and 0.0426–0.0457: the
-surge's braking and push-off tell the network more of the speed than one sinusoid
-did.) Training is deterministic on CPU: the commands give
+members (m²/s², mean of both velocity components): train 0.0270–0.0273, val
+0.0254–0.0260, test 0.0391–0.0410 — an RMS velocity error of about 0.20 m/s per
+axis on the test buildings. (Retrained on walks v10, where the walker weaves off its
+line, :mod:`indoorsim.walker.meander`, and the swinging forearm hangs under gravity:
+every walk moved. On walks v9, when the body's forward surge became the ground's push
+through the stance leg, :func:`indoorsim.walker.motion.surge_waveforms`: 0.0292–0.0295,
+0.0284–0.0291 and 0.0413–0.0427; before that 0.0331–0.0335, 0.0313–0.0328 and
+0.0426–0.0457.) Training is deterministic on CPU: the commands give
 the same ``weights.pt`` bytes for the same ``--threads`` and ``--workers`` (add
 ``--overwrite`` to retrain in place; the packaged members were written to a
 scratch folder, which their ``ensemble.json`` names, and copied here).

@@ -65,8 +65,8 @@ class Meander:
 
     def at(self, s: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The offset (m) and its slope (m per m) at the distances ``s``, through a
-        quintic spline (C⁴: the heading it turns is smooth to its acceleration's rate of
-        change, as the phone's motion, carried on the trunk, needs); held beyond the
+        quintic spline (C⁴, so the slope's own curvature, which the body's turn
+        differentiates twice more, has no kinks between the samples); held beyond the
         ends."""
         # Level at both ends, where the fades have brought it to rest.
         ends = [(1, 0.0), (2, 0.0)]
@@ -124,8 +124,8 @@ def keep_room(
     r is how far the body's centre can move off the path along its normal and stay
     ``clearance_m`` from every wall (probed every 5 cm up to a metre), and an
     offset o toward that side becomes o / √(1 + (o/r)²): nearly as drawn while well
-    within r, never beyond it. The walker weaves freely in the open and keeps its distance
-    beside a wall or in a doorway.
+    within r, never beyond it. The walker weaves freely in the open and keeps its
+    distance beside a wall or in a doorway.
 
     Args:
         meander: the drawn offset.
