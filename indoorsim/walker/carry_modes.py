@@ -585,7 +585,7 @@ class Dangling(CarryMode):
         theta = self._simulate(body, shoulder, length, swing * body.gait_envelope, side)
         # The forearm about the elbow (anthropometry.hanging_forearm): the upper arm's
         # angular acceleration whips it on, and gravity pulls it back under the elbow
-        # as the upper arm leans — the two nearly cancel at the stride rate.
+        # as the upper arm leans: at the stride rate it takes back about half the whip.
         upper = UPPER_ARM * h
         forearm = length - upper
         gravity, whip = hanging_forearm(h)

@@ -259,9 +259,9 @@ class WalkerParams:
     drawn per walk (:mod:`~indoorsim.walker.meander`). With ``meander_wavelength_m``
     it is what the real ARKit walks' straight stretches show through
     :mod:`indoorsim.benchmark.realism.line` (1.85–2.84 cm and 1.72–2.62° once the stride
-    is averaged out over 6 m; the bundled and generated sites' walks: 1.91–2.52 cm and
-    1.89–2.38°). Independently, the ILC traces' twins now turn within their straight
-    legs as their real surveyors do (the heading's swing within a leg, 2 s means: 5.42°,
+    is averaged out over 6 m; the bundled and generated sites' walks: 1.90–2.51 cm and
+    1.87–2.37°). Independently, the ILC traces' twins now turn within their straight
+    legs as their real surveyors do (the heading's swing within a leg, 2 s means: 5.85°,
     real 5.69°; 3.08° walking on rails)."""
     meander_wavelength_m: float = 5.0
     """Natural wavelength of that weave (m): its heading's departure has an RMS of

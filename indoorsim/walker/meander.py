@@ -109,7 +109,9 @@ def lateral_meander(
     z *= rms_m / math.sqrt(5.0 * _DS_M / (32.0 * omega**7))
     s = np.linspace(0.0, length_m, n)
     edge = np.clip(np.minimum(s, length_m - s) / max(fade_m, 1e-9), 0.0, 1.0)
-    # Faded by the smootherstep, so the offset stays C² through the fades.
+    # Faded by the smootherstep, so the offset stays C² through the fades. Written out:
+    # gait.smootherstep's own form rounds its last bits differently, and gait imports
+    # this module.
     return Meander(s=s, offset=z * edge**3 * (10.0 - 15.0 * edge + 6.0 * edge**2))
 
 
