@@ -361,6 +361,54 @@ SIGNALS = {
 """The signal statistics the twin table compares (:func:`walk_signals`)."""
 
 
+LEG_END_SHARE = 0.2
+"""The share of each leg's time, at either end, that :func:`_leg_parts` counts as near
+its marks."""
+
+LEG_PART_KEYS = ("read_near_m", "paced_near_m", "read_between_m", "paced_between_m")
+
+
+def _leg_parts(result: WalkResult, rec: Recording, lead_s: float) -> dict[str, float]:
+    """Where along its legs an estimator's track walks its distance: the length of its
+    own track (every answer) near the marks — the first and last :data:`LEG_END_SHARE`
+    of each leg's time, the walker passing its waypoints a lead after each mark — and
+    between them, each beside the distance the leg's mean speed (its length over its
+    time) covers in the same time. Legs after the first only: the first holds the
+    start and the estimate's warm-up.
+
+    The leg's mean speed is no truth within the leg: a walker who slows at the marks
+    covers less than it near them and more between, and a perfect track reads so. It
+    is the one reference a real trace gives there, the same for a trace and its twin.
+    """
+    track = result.track
+    if track is None or len(track) < 2 or "waypoints" not in rec.streams:
+        return dict.fromkeys(LEG_PART_KEYS, 0.0)
+    passing = rec.waypoints.index.to_numpy(dtype=float) + lead_s
+    xy = rec.waypoints[["x", "y"]].to_numpy(dtype=float)
+    took = np.diff(passing)
+    speed = np.divide(
+        np.linalg.norm(np.diff(xy, axis=0), axis=1), took, out=np.zeros(len(took)), where=took > 0
+    )
+    t = track["t"].to_numpy(dtype=float)
+    walked = np.linalg.norm(np.diff(track[["x", "y"]].to_numpy(dtype=float), axis=0), axis=1)
+    centre, dt = 0.5 * (t[1:] + t[:-1]), np.diff(t)
+    leg = np.searchsorted(passing, centre, side="right") - 1
+    inside = (leg >= 1) & (leg < len(took))
+    leg = np.clip(leg, 0, len(took) - 1)
+    into = np.divide(
+        centre - passing[leg], took[leg], out=np.zeros(len(centre)), where=took[leg] > 0
+    )
+    near = inside & ((into < LEG_END_SHARE) | (into > 1.0 - LEG_END_SHARE))
+    between = inside & ~near
+    paced = speed[leg] * dt
+    return {
+        "read_near_m": float(walked[near].sum()),
+        "paced_near_m": float(paced[near].sum()),
+        "read_between_m": float(walked[between].sum()),
+        "paced_between_m": float(paced[between].sum()),
+    }
+
+
 def _scores(estimator: str, rec: Recording, lead_s: float) -> dict[str, float]:
     result = evaluate_recording(estimator, rec, params=REAL_DATA_PARAMS.get(estimator))
     e = result.estimates
@@ -375,7 +423,7 @@ def _scores(estimator: str, rec: Recording, lead_s: float) -> dict[str, float]:
         "path_ratio": _path_ratio(result, lead_s),
         "ae_aligned": float(aligned.mean()) if len(aligned) else float("nan"),
         "turn_deg": turn,
-    }
+    } | _leg_parts(result, rec, lead_s)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -521,6 +569,18 @@ def twin_summary(table: pd.DataFrame) -> tuple[pd.DataFrame, float]:
     return out, tau
 
 
+def leg_part_summary(table: pd.DataFrame) -> pd.DataFrame:
+    """Per estimator, real and twins: its track's distance near the marks and between
+    them over what the legs' mean speeds cover in the same time (:func:`_leg_parts`,
+    summed over the traces and seeds); NaN where that is nothing."""
+    sums = table.groupby(["estimator", "data"], sort=False)[list(LEG_PART_KEYS)].sum()
+    out = pd.DataFrame(index=sums.index)
+    for part in ("near", "between"):
+        paced = sums[f"paced_{part}_m"]
+        out[part] = sums[f"read_{part}_m"] / paced.where(paced > 0)
+    return out.unstack("data")
+
+
 SHARED_TURN_REFERENCE = "pdr-basic"
 """The estimator whose turn about the start the others' are compared with: it holds the
 gyro's heading from the start heading (the first leg's marks), so its turn is how the
@@ -631,6 +691,27 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         "",
         f"Kendall's τ between the estimators' rankings on real and simulated data: {tau:.2f} "
         "(1: the same order).",
+        "",
+        "Where along the legs the distance is read: each estimator's track near the "
+        f"marks (the first and last {LEG_END_SHARE:.0%} of each leg's time, the walker "
+        "passing its waypoints that lead after the marks) and between them, over the "
+        "distance the leg's mean speed (its length over its time) covers in the same "
+        "time; the legs after the first, summed over the traces (`_leg_parts`). The leg's "
+        "mean speed is no truth within a leg: a walker who slows at the marks reads "
+        "under 1 near them and over 1 between even when tracked perfectly, so read the "
+        "real column against the twins', not against 1.",
+        "",
+        "| estimator | near the marks real | near the marks sim | between real | between sim |",
+        "|---|---|---|---|---|",
+    ]
+    parts = leg_part_summary(table)
+    for est in summary["estimator"]:
+        r = parts.loc[est]
+        lines.append(
+            f"| {est} | {r[('near', 'real')]:.2f} | {r[('near', 'sim')]:.2f} | "
+            f"{r[('between', 'real')]:.2f} | {r[('between', 'sim')]:.2f} |"
+        )
+    lines += [
         "",
         "The same errors once each estimated track is turned about the start by the one "
         "rotation that lays it best on the marks (least squares; "

@@ -13,6 +13,7 @@ from indoorsim.benchmark.evaluation import evaluate_recording
 from indoorsim.benchmark.sim_to_real import (
     SIGNALS,
     TwinResults,
+    _leg_parts,
     _pace,
     _path_ratio,
     as_real_log,
@@ -109,6 +110,52 @@ def test_a_perfect_estimator_walks_the_scored_waypoints_distance(lead_s):
     assert np.all(np.diff(result.track["t"]) == pytest.approx(1.0, abs=0.05))
 
 
+def test_leg_parts_split_a_track_near_the_marks_from_between_them():
+    """Three legs of 10 m walked in 10 s each, marks 1 s before the walker passes their
+    waypoints; a track answering every second at 1 m/s reads as paced. The first leg is
+    left out; of the other two, 2 s at each end of each are near the marks (0.2 of 10 s):
+    8 m near, 12 m between. A track that stands for each leg's first 2 s and walks its
+    10 m in the other 8 s reads 2.5 m near the marks on each leg (2 s standing, the
+    last 2 s at 1.25 m/s) and 7.5 m between: under 1 near, over 1 between, though it
+    walks every leg's length in its time."""
+    marks = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]])
+    times = np.array([0.0, 10.0, 20.0, 30.0]) - 1.0
+    waypoints = pd.DataFrame(marks, columns=["x", "y"], index=pd.Index(times, name="t"))
+    rec = Recording(streams={"waypoints": waypoints})
+    t = np.arange(0.0, 31.0)
+    along = np.interp(t, [0, 10, 20, 30], [0, 10, 20, 30])
+    xy = np.column_stack(
+        [
+            np.interp(along, [0, 10, 20, 30], marks[:, 0]),
+            np.interp(along, [0, 10, 20, 30], marks[:, 1]),
+        ]
+    )
+
+    @dataclass
+    class _Result:
+        track: pd.DataFrame
+
+    result = _Result(track=pd.DataFrame({"t": t, "x": xy[:, 0], "y": xy[:, 1]}))
+    parts = _leg_parts(result, rec, lead_s=1.0)
+    assert parts["paced_near_m"] == pytest.approx(8.0)
+    assert parts["paced_between_m"] == pytest.approx(12.0)
+    assert parts["read_near_m"] == pytest.approx(8.0)
+    assert parts["read_between_m"] == pytest.approx(12.0)
+    # Standing 2 s at each waypoint, then the leg's 10 m in its other 8 s.
+    hold = np.concatenate([[0.0, 0.0], np.linspace(0.0, 10.0, 9)[1:]])
+    along = np.concatenate([[0.0], hold, 10.0 + hold, 20.0 + hold])[: len(t)]
+    xy = np.column_stack(
+        [
+            np.interp(along, [0, 10, 20, 30], marks[:, 0]),
+            np.interp(along, [0, 10, 20, 30], marks[:, 1]),
+        ]
+    )
+    result = _Result(track=pd.DataFrame({"t": t, "x": xy[:, 0], "y": xy[:, 1]}))
+    parts = _leg_parts(result, rec, lead_s=1.0)
+    assert parts["read_near_m"] == pytest.approx(2 * 2.5)  # 0 + 2·1.25 on each leg
+    assert parts["read_between_m"] == pytest.approx(2 * 7.5)  # 6 s at 1.25 m/s
+
+
 @pytest.mark.parametrize("sway", [0.0, 0.3])
 def test_the_lead_of_a_corner_mark_is_read_from_the_gyros_turn(sway):
     """A 90° left turn centred 0.8 s after the corner was marked, on a level phone,
@@ -183,6 +230,11 @@ def _scores() -> pd.DataFrame:
                     "ae_aligned": real / 2,
                     # Turned one way on one trace, the other way on the other.
                     "turn_deg": 10.0 if trace == "t1" else -20.0,
+                    # Read short near the marks, as paced between them.
+                    "read_near_m": 3.0,
+                    "paced_near_m": 4.0,
+                    "read_between_m": 8.0,
+                    "paced_between_m": 8.0,
                 }
             )
             for seed, jitter in ((0, -0.5), (1, 0.5)):
@@ -197,6 +249,10 @@ def _scores() -> pd.DataFrame:
                         "path_ratio": 0.9,
                         "ae_aligned": sim / 2 + jitter,
                         "turn_deg": 4.0 * jitter,
+                        "read_near_m": 4.0 + jitter,
+                        "paced_near_m": 4.0,
+                        "read_between_m": 8.0,
+                        "paced_between_m": 10.0,
                     }
                 )
     return pd.DataFrame(rows)
@@ -252,6 +308,8 @@ def test_the_section_names_the_signals_on_which_the_twins_depart(tmp_path):
     text = "\n".join(write_twin_section(tmp_path, results))
     assert "| a | 2.00 | 1.00 | 2.00 (outside 0.8–1.25) |" in text
     assert "| a | 15.0 | 2.0 | 1.00 | 0.50 | 2.00 (outside 0.8–1.25) |" in text
+    # Near the marks and between them, over the legs' mean speeds: sums over the traces.
+    assert "| a | 0.75 | 1.00 | 1.00 | 0.80 |" in text
     departs = next(line for line in text.splitlines() if line.startswith("Where the twins depart"))
     assert "‖a‖ std while walking (3.00)" in departs
     assert "rate of turn at the stride rate (0.50)" in departs
