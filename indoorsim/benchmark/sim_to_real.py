@@ -231,6 +231,11 @@ def _path_ratio(result: WalkResult, lead_s: float) -> float:
     return track_length(t, xy, t0, t1) / true
 
 
+LEG_END_SHARE = 0.2
+"""The share of each leg's time, at either end, that counts as near its waypoints
+(:func:`_leg_parts`, :func:`_approach`)."""
+
+
 def walk_signals(rec: Recording) -> dict[str, float]:
     """What the phone felt (the swing per step between the first and the last waypoint,
     the rest over the whole walk's walking parts): the step rate, ‖a‖'s
@@ -249,7 +254,8 @@ def walk_signals(rec: Recording) -> dict[str, float]:
     (:func:`~indoorsim.benchmark.realism.headings.leg_headings`: the median over the
     long legs of the marks' direction against the gyro's heading, in size, and of the
     heading's swing within a leg); and how fast the short and the long legs were
-    walked (:func:`_pace`)."""
+    walked (:func:`_pace`), and how the walker steps as it approaches each waypoint and
+    between them (:func:`_approach`)."""
     field = magnetic_statistics(rec)
     iron = hard_iron_residual(rec)
     iron_free = magnetic_statistics(rec, iron.offset_uT) if iron is not None else field
@@ -259,6 +265,7 @@ def walk_signals(rec: Recording) -> dict[str, float]:
     steps = PeakStepDetector().update(t, rec.accel[["x", "y", "z"]].to_numpy(dtype=float))
     swings = [s.a_max - s.a_min for s in steps if first <= s.t <= last]
     vigour = vigour_powers(rec)
+    leads = waypoint_lead(rec)
     return (
         {
             "step_hz": stats["step_hz"],
@@ -275,11 +282,42 @@ def walk_signals(rec: Recording) -> dict[str, float]:
         | {
             "hard_iron": iron.horizontal_uT if iron is not None else float("nan"),
             "mag_std_iron_free": iron_free["mag_std"],
-            "lead": float(np.median(leads)) if len(leads := waypoint_lead(rec)) else float("nan"),
+            "lead": float(np.median(leads)) if len(leads) else float("nan"),
         }
         | _straightness(rec)
         | _pace(rec)
+        | _approach(rec, steps, float(np.median(leads)) if len(leads) else 0.0)
     )
+
+
+def _approach(rec: Recording, steps: Sequence, lead_s: float) -> dict[str, float]:
+    """How the walker steps as it approaches each waypoint — over the last
+    :data:`LEG_END_SHARE` of each leg's time, the walker passing its waypoints
+    ``lead_s`` after their marks — and between the marks (the middle of each leg,
+    clear of both ends' shares): the step rate (steps over time) and the median swing
+    of the low-passed ‖a‖ per step (Weinberg's step-length input). NaN without a
+    step there. Read from the accelerometer alone, so no estimator's reading enters."""
+    nan = float("nan")
+    out = dict.fromkeys(
+        ("approach_step_hz", "approach_swing", "between_step_hz", "between_swing"), nan
+    )
+    if "waypoints" not in rec.streams or len(rec.waypoints) < 2:
+        return out
+    passing = rec.waypoints.index.to_numpy(dtype=float) + lead_s
+    took = np.diff(passing)
+    t = np.array([s.t for s in steps])
+    swing = np.array([s.a_max - s.a_min for s in steps])
+    for key, (lo, hi) in (
+        ("approach", (1.0 - LEG_END_SHARE, 1.0)),
+        ("between", (LEG_END_SHARE, 1.0 - LEG_END_SHARE)),
+    ):
+        starts, ends = passing[:-1] + lo * took, passing[:-1] + hi * took
+        within = ((t[:, None] >= starts) & (t[:, None] < ends)).any(axis=1) if len(t) else []
+        span = float(np.clip(ends - starts, 0.0, None).sum())
+        if span > 0 and np.any(within):
+            out[f"{key}_step_hz"] = float(np.sum(within) / span)
+            out[f"{key}_swing"] = float(np.median(swing[within]))
+    return out
 
 
 _SHORT_LEG_M, _LONG_LEG_M = 4.0, 8.0
@@ -352,6 +390,10 @@ SIGNALS = {
     "pace_short": "walking speed over legs under 4 m (m/s)",
     "pace_long": "walking speed over legs of 8 m or more (m/s)",
     "lead": "corner waypoints marked before the walker's turn (s)",
+    "approach_step_hz": "step rate over each leg's last fifth, approaching its waypoint (Hz)",
+    "approach_swing": "swing of low-passed ‖a‖ per step there (m/s²)",
+    "between_step_hz": "step rate over each leg's middle three fifths (Hz)",
+    "between_swing": "swing of low-passed ‖a‖ per step there (m/s²)",
     "leg_marks": "legs of 4 m or more: the marks' direction against the gyro's heading (°)",
     "leg_swing": "legs of 4 m or more: the heading's swing within one, 2 s means (°)",
     "leg_marks_rotation": (
@@ -360,10 +402,6 @@ SIGNALS = {
 }
 """The signal statistics the twin table compares (:func:`walk_signals`)."""
 
-
-LEG_END_SHARE = 0.2
-"""The share of each leg's time, at either end, that :func:`_leg_parts` counts as near
-its marks."""
 
 LEG_PART_KEYS = ("read_near_m", "paced_near_m", "read_between_m", "paced_between_m")
 

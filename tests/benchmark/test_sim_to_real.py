@@ -13,6 +13,7 @@ from indoorsim.benchmark.evaluation import evaluate_recording
 from indoorsim.benchmark.sim_to_real import (
     SIGNALS,
     TwinResults,
+    _approach,
     _leg_parts,
     _pace,
     _path_ratio,
@@ -154,6 +155,40 @@ def test_leg_parts_split_a_track_near_the_marks_from_between_them():
     parts = _leg_parts(result, rec, lead_s=1.0)
     assert parts["read_near_m"] == pytest.approx(2 * 2.5)  # 0 + 2·1.25 on each leg
     assert parts["read_between_m"] == pytest.approx(2 * 7.5)  # 6 s at 1.25 m/s
+
+
+def test_the_approach_to_each_waypoint_is_read_from_the_steps():
+    """Two legs of 10 s, passed 1 s after their marks: steps of swing 8 every 0.5 s
+    mid-leg, of swing 4 every 1 s over each leg's last 2 s; the first 2 s of each leg
+    count to neither."""
+
+    @dataclass
+    class _Step:
+        t: float
+        a_max: float
+        a_min: float = 0.0
+
+    waypoints = pd.DataFrame(
+        {"x": [0.0, 10.0, 10.0], "y": [0.0, 0.0, 10.0]},
+        index=pd.Index([-1.0, 9.0, 19.0], name="t"),
+    )
+    rec = Recording._from_built({"waypoints": waypoints}, {})
+    steps = []
+    for start in (0.0, 10.0):
+        steps += [_Step(start + t, 6.0) for t in (0.25, 1.25)]  # leaving: neither part
+        steps += [_Step(start + 2.0 + 0.5 * k, 8.0) for k in range(12)]  # 2 … 7.5 s
+        steps += [_Step(start + t, 4.0) for t in (8.5, 9.5)]
+    out = _approach(rec, steps, lead_s=1.0)
+    assert out == pytest.approx(
+        {
+            "approach_step_hz": 1.0,
+            "approach_swing": 4.0,
+            "between_step_hz": 2.0,
+            "between_swing": 8.0,
+        }
+    )
+    # Without waypoints there is nothing to approach.
+    assert np.isnan(_approach(Recording._from_built({}, {}), steps, 1.0)["approach_step_hz"])
 
 
 @pytest.mark.parametrize("sway", [0.0, 0.3])
