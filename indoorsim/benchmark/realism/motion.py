@@ -44,6 +44,8 @@ The keys of the returned dict (NaN where a stream is missing or too short):
 ``bob_phase_2nd``   its vertical acceleration's second harmonic against the step
                     rate's, φ₂ − 2φ₁ (°; the loading peak's and the jolt's timing)
 ``surge_2nd``       its forward acceleration at twice the step rate (m/s²)
+``surge_phase``     its forward acceleration's lead on its vertical acceleration at
+                    the step rate (°; the pelvis's own surge leads by a quarter cycle)
 ==================  ==========================================================
 """
 
@@ -113,6 +115,7 @@ MOTION_KEYS = (
     "nod_2nd",
     "bob_phase_2nd",
     "surge_2nd",
+    "surge_phase",
 )
 
 _SEGMENT_S = 8.0  # Welch segment: 0.125 Hz bins, several segments per real walk
@@ -312,7 +315,7 @@ def motion_statistics(rec: Recording) -> dict[str, float]:
     return out
 
 
-HELD_KEYS = MOTION_KEYS[-9:]
+HELD_KEYS = MOTION_KEYS[-10:]
 """Keys of :func:`held_phone_motion` (the last of :data:`MOTION_KEYS`)."""
 HELD_MODE = "handheld"
 """The carrying mode whose phone is held top-forward: the only one they are judged in."""
@@ -427,11 +430,11 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
         at_stride = windows.amplitude(w, step_hz / 2.0)
         at_2nd = windows.coefficient(w, 2.0 * step_hz)
         rows.append([abs(at_step[0]), at_stride[1], abs(at_step[2]), at_stride[3], abs(at_step[1])])
-        second.append((at_step[2], at_2nd[2], at_2nd[4], abs(at_2nd[0])))
+        second.append((at_step[2], at_2nd[2], at_2nd[4], abs(at_2nd[0]), at_step[0]))
     if rows:
         out.update(zip(HELD_KEYS[:5], np.median(rows, axis=0).tolist(), strict=True))
         out["roll_jerk"] = roll_jerk_correlation(sig.accel, sig.gyro, sig.runs, rate)
-        bob, bob_2nd, nod_2nd, surge_2nd = (np.array(c) for c in zip(*second, strict=True))
+        bob, bob_2nd, nod_2nd, surge_2nd, surge = (np.array(c) for c in zip(*second, strict=True))
         out["surge_2nd"] = float(np.median(surge_2nd))
         power = float(np.sum(np.abs(bob_2nd) ** 2))
         if power > 0:
@@ -442,6 +445,10 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
             out["bob_phase_2nd"] = math.degrees(
                 np.angle(np.sum(shape[sizes > 0] / sizes[sizes > 0]))
             )
+        lead = surge * np.conj(bob)
+        sizes = np.abs(lead)
+        if (sizes > 0).any():
+            out["surge_phase"] = math.degrees(np.angle(np.sum(lead[sizes > 0] / sizes[sizes > 0])))
     return out
 
 

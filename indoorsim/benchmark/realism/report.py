@@ -103,6 +103,7 @@ COMPARED: dict[str, str] = {
     "nod_2nd": "held top-forward: pitch rate per vertical acceleration, 2× step rate (s)",
     "bob_phase_2nd": "held top-forward: vertical acceleration's 2nd harmonic phase (°)",
     "surge_2nd": "held top-forward: forward acceleration at twice the step rate (m/s²)",
+    "surge_phase": "held top-forward: forward acceleration's lead on the vertical, step rate (°)",
 }
 """The statistics judged, with their labels (``walking_s`` is shown, not judged)."""
 

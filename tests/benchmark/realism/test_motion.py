@@ -215,7 +215,8 @@ def test_a_held_phones_nod_and_bob_shape_at_twice_the_step_rate_in_closed_form()
 
 def test_a_held_phones_surge_at_twice_the_step_rate_is_its_amplitude():
     """Forward acceleration 0.3·cos(ωt + 0.4) + 0.45·cos(2ωt − 0.7) on the phone's y axis
-    (held flat, top forward) reads 0.3 at the step rate and 0.45 at twice it."""
+    (held flat, top forward) reads 0.3 at the step rate and 0.45 at twice it; against the
+    vertical 2·sin(ωt) it leads by 0.4 rad and a quarter cycle."""
     f = 1.75
     rec = _sine_walk(f)
     t = rec.accel.index.to_numpy()
@@ -224,3 +225,4 @@ def test_a_held_phones_surge_at_twice_the_step_rate_is_its_amplitude():
     held = held_phone_motion(rec)
     assert held["surge_step"] == pytest.approx(0.3, rel=0.03)
     assert held["surge_2nd"] == pytest.approx(0.45, rel=0.03)
+    assert held["surge_phase"] == pytest.approx(math.degrees(0.4) + 90.0, abs=1.0)

@@ -76,6 +76,9 @@ INSIDE = {
         # phones surge 0.20-0.30 m/s² at twice the step rate (real 0.09-0.54); before,
         # one sinusoid left 0.05-0.08.
         "surge_2nd",
+        # The real range is wide (-51 to +57°, median +23°: the ILC traces); the
+        # simulated hands read -2 to +0.4°, their twins -15° (sim_to_real).
+        "surge_phase",
     },
     "calling": {
         "step_hz",
