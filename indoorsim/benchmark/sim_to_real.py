@@ -294,9 +294,12 @@ def _approach(rec: Recording, steps: Sequence, lead_s: float) -> dict[str, float
     """How the walker steps as it approaches each waypoint — over the last
     :data:`LEG_END_SHARE` of each leg's time, the walker passing its waypoints
     ``lead_s`` after their marks — and between the marks (the middle of each leg,
-    clear of both ends' shares): the step rate (steps over time) and the median swing
-    of the low-passed ‖a‖ per step (Weinberg's step-length input). NaN without a
-    step there. Read from the accelerometer alone, so no estimator's reading enters."""
+    clear of both ends' shares): the steps ``steps`` holds there per second and their
+    median swing of the low-passed ‖a‖ (Weinberg's step-length input). NaN without a
+    step there. :func:`walk_signals` passes the peak-valley detector's steps at its
+    defaults, whose 0.5 s least interval misses some steps of a brisk walk: the same
+    detector on the real trace and its twin, so the two compare, though the rate is not
+    the cadence. Read from the accelerometer alone."""
     nan = float("nan")
     out = dict.fromkeys(
         ("approach_step_hz", "approach_swing", "between_step_hz", "between_swing"), nan
@@ -390,9 +393,11 @@ SIGNALS = {
     "pace_short": "walking speed over legs under 4 m (m/s)",
     "pace_long": "walking speed over legs of 8 m or more (m/s)",
     "lead": "corner waypoints marked before the walker's turn (s)",
-    "approach_step_hz": "step rate over each leg's last fifth, approaching its waypoint (Hz)",
+    "approach_step_hz": (
+        "steps found per second over each leg's last fifth, approaching its waypoint (Hz)"
+    ),
     "approach_swing": "swing of low-passed ‖a‖ per step there (m/s²)",
-    "between_step_hz": "step rate over each leg's middle three fifths (Hz)",
+    "between_step_hz": "steps found per second over each leg's middle three fifths (Hz)",
     "between_swing": "swing of low-passed ‖a‖ per step there (m/s²)",
     "leg_marks": "legs of 4 m or more: the marks' direction against the gyro's heading (°)",
     "leg_swing": "legs of 4 m or more: the heading's swing within one, 2 s means (°)",
