@@ -119,6 +119,18 @@ distance (median over traces 0.92) and 0.98 of the twins' — on the edge of the
 issue's 0.9–1.1, within the figure's own uncertainty (its standard error over the 16
 traces is 0.016).
 
+Where the rest goes (walks v10's ensemble, 0.88 of the real distance; median 0.90):
+near the marks. The surveyors slow almost to a stop into each waypoint to tap it and
+walk briskly between (their accelerometers show it: ``sim_to_real._approach``); every
+estimator reads their approaches short against the leg's mean speed (this one 0.68,
+``pdr-basic`` 0.63; the twins, paced leg by leg, 0.86 and 0.87), and between the marks
+this network reads them at the leg's mean speed (1.00) where ``pdr-basic`` reads them
+faster than their twins. Twins made to stand 0.3 s at each waypoint approach it as the
+surveyors do, and the network reads them at 0.90; on simulated walks it reads 1.3–1.5
+m/s at 0.94 of the truth and faster at 0.80, so brisk walking between stops is read
+short. Trained on 0.9–1.7 m/s it read the real traces at 0.90, at a higher error there
+and on the twins, and was not kept (``leaderboards/commentary.md``).
+
 Per window
 ----------
 
