@@ -66,7 +66,7 @@ from indoorsim.scenario.imports import (
 )
 from indoorsim.scenario.load import load_site
 from indoorsim.simulate import simulate
-from indoorsim.walker.path import first_pass
+from indoorsim.walker.path import cumsum0, first_pass
 from indoorsim.world.site import Site
 
 __all__ = [
@@ -452,7 +452,57 @@ def _leg_parts(result: WalkResult, rec: Recording, lead_s: float) -> dict[str, f
     }
 
 
-def _scores(estimator: str, rec: Recording, lead_s: float) -> dict[str, float]:
+SPEED_BINS_MPS = (0.0, 0.9, 1.3, 1.5, np.inf)
+"""The twins' true speed over each of an estimator's answer intervals, binned by
+:func:`_speed_reads`: slow (turning, starting, stopping), usual, brisk, fast."""
+
+SPEED_BIN_LABELS = ("under 0.9 m/s", "0.9–1.3 m/s", "1.3–1.5 m/s", "1.5 m/s and over")
+
+SPEED_READ_KEYS = tuple(
+    f"{kind}_speed{k}_m" for k in range(len(SPEED_BIN_LABELS)) for kind in ("read", "true")
+)
+
+
+def _speed_reads(result: WalkResult, truth: pd.DataFrame | None) -> dict[str, float]:
+    """How far the estimator's own track goes between consecutive answers against how far
+    the phone truly went then, summed by the true speed over the interval
+    (:data:`SPEED_BINS_MPS`); NaN without a truth (a real trace)."""
+    out = dict.fromkeys(SPEED_READ_KEYS, float("nan"))
+    track = result.track
+    if truth is None or track is None or len(track) < 2:
+        return out
+    tt = truth.index.to_numpy(dtype=float)
+    gone = cumsum0(np.linalg.norm(np.diff(truth[["x", "y"]].to_numpy(dtype=float), axis=0), axis=1))
+    t = track["t"].to_numpy(dtype=float)
+    read = np.linalg.norm(np.diff(track[["x", "y"]].to_numpy(dtype=float), axis=0), axis=1)
+    true = np.diff(np.interp(t, tt, gone))
+    dt = np.diff(t)
+    speed = np.divide(true, dt, out=np.zeros(len(dt)), where=dt > 0)
+    which = np.digitize(speed, SPEED_BINS_MPS[1:-1])
+    for k in range(len(SPEED_BIN_LABELS)):
+        out[f"read_speed{k}_m"] = float(read[which == k].sum())
+        out[f"true_speed{k}_m"] = float(true[which == k].sum())
+    return out
+
+
+def speed_read_summary(table: pd.DataFrame) -> pd.DataFrame:
+    """Per estimator, on the twins: the distance its track reads over that truly walked
+    in each true-speed bin (:func:`_speed_reads`, summed over traces and seeds), and the
+    share of the walked distance in the bin."""
+    sim = table[table["data"] == "sim"]
+    sums = sim.groupby("estimator", sort=False)[list(SPEED_READ_KEYS)].sum()
+    out = pd.DataFrame(index=sums.index)
+    total = sum(sums[f"true_speed{k}_m"] for k in range(len(SPEED_BIN_LABELS)))
+    for k in range(len(SPEED_BIN_LABELS)):
+        true = sums[f"true_speed{k}_m"]
+        out[f"read_{k}"] = sums[f"read_speed{k}_m"] / true.where(true > 0)
+        out[f"share_{k}"] = true / total.where(total > 0)
+    return out
+
+
+def _scores(
+    estimator: str, rec: Recording, lead_s: float, truth: pd.DataFrame | None = None
+) -> dict[str, float]:
     result = evaluate_recording(estimator, rec, params=REAL_DATA_PARAMS.get(estimator))
     e = result.estimates
     aligned, turn = start_aligned_errors(
@@ -460,13 +510,17 @@ def _scores(estimator: str, rec: Recording, lead_s: float) -> dict[str, float]:
         e[["true_x", "true_y"]].to_numpy(dtype=float),
         start_info(rec).position,
     )
-    return {
-        "ae": float(result.metrics["ae"]),
-        "rmse": float(result.metrics["rmse"]),
-        "path_ratio": _path_ratio(result, lead_s),
-        "ae_aligned": float(aligned.mean()) if len(aligned) else float("nan"),
-        "turn_deg": turn,
-    } | _leg_parts(result, rec, lead_s)
+    return (
+        {
+            "ae": float(result.metrics["ae"]),
+            "rmse": float(result.metrics["rmse"]),
+            "path_ratio": _path_ratio(result, lead_s),
+            "ae_aligned": float(aligned.mean()) if len(aligned) else float("nan"),
+            "turn_deg": turn,
+        }
+        | _leg_parts(result, rec, lead_s)
+        | _speed_reads(result, truth)
+    )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -567,7 +621,7 @@ def twin_table(
             signals.append({"trace": name, "data": "sim", "seed": seed} | walk_signals(twin))
             for est in estimators:
                 rows.append({"trace": name, "estimator": est, "data": "sim", "seed": seed})
-                rows[-1] |= _scores(est, twin, lead)
+                rows[-1] |= _scores(est, twin, lead, walk.truth)
     return TwinResults(
         scores=pd.DataFrame(rows),
         signals=pd.DataFrame(signals),
@@ -754,6 +808,26 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
             f"| {est} | {r[('near', 'real')]:.2f} | {r[('near', 'sim')]:.2f} | "
             f"{r[('between', 'real')]:.2f} | {r[('between', 'sim')]:.2f} |"
         )
+    reads = speed_read_summary(table)
+    lines += [
+        "",
+        "How each estimator reads the twins' speed: the length of its own track between "
+        "consecutive answers over the distance the phone truly went then, by the true "
+        "speed over the interval (summed over the traces and seeds; `_speed_reads`), and "
+        "the share of the walked distance at that speed in brackets. A real trace has no "
+        "truth between its marks.",
+        "",
+        "| estimator | " + " | ".join(SPEED_BIN_LABELS) + " |",
+        "|---|" + "---|" * len(SPEED_BIN_LABELS),
+    ]
+    for est in summary["estimator"]:
+        if est not in reads.index:
+            continue
+        r = reads.loc[est]
+        cells = [
+            f"{r[f'read_{k}']:.2f} ({r[f'share_{k}']:.2f})" for k in range(len(SPEED_BIN_LABELS))
+        ]
+        lines.append(f"| {est} | " + " | ".join(cells) + " |")
     lines += [
         "",
         "The same errors once each estimated track is turned about the start by the one "

@@ -12,11 +12,13 @@ import pytest
 from indoorsim.benchmark.evaluation import evaluate_recording
 from indoorsim.benchmark.sim_to_real import (
     SIGNALS,
+    SPEED_READ_KEYS,
     TwinResults,
     _approach,
     _leg_parts,
     _pace,
     _path_ratio,
+    _speed_reads,
     as_real_log,
     passing_times,
     shared_turns,
@@ -191,6 +193,35 @@ def test_the_approach_to_each_waypoint_is_read_from_the_steps():
     assert np.isnan(_approach(Recording._from_built({}, {}), steps, 1.0)["approach_step_hz"])
 
 
+def test_speed_reads_bin_each_answer_interval_by_the_true_speed():
+    """A phone walking 0.5 m/s for 4 s, then 1.4 m/s for 4 s, then 2 m/s for 2 s, and a
+    track answering every second that reads the slow part right, the brisk part at half
+    and the fast part at 1.1."""
+    tt = np.arange(0.0, 10.001, 0.01)
+    speed = np.where(tt < 4.0, 0.5, np.where(tt < 8.0, 1.4, 2.0))
+    x = np.concatenate([[0.0], np.cumsum(speed[:-1] * 0.01)])
+    truth = pd.DataFrame({"x": x, "y": 0.0 * x}, index=pd.Index(tt, name="t"))
+    t = np.arange(0.0, 11.0)
+    true_x = np.interp(t, tt, x)
+    steps = np.diff(true_x) * np.where(t[1:] <= 4.0, 1.0, np.where(t[1:] <= 8.0, 0.5, 1.1))
+
+    @dataclass
+    class _Result:
+        track: pd.DataFrame
+
+    track = pd.DataFrame({"t": t, "x": np.concatenate([[0.0], np.cumsum(steps)]), "y": 0.0 * t})
+    out = _speed_reads(_Result(track=track), truth)
+    assert out["true_speed0_m"] == pytest.approx(2.0)
+    assert out["read_speed0_m"] == pytest.approx(2.0)
+    assert out["true_speed2_m"] == pytest.approx(5.6)  # 1.4 m/s: the 1.3–1.5 bin
+    assert out["read_speed2_m"] == pytest.approx(2.8)
+    assert out["true_speed3_m"] == pytest.approx(4.0)
+    assert out["read_speed3_m"] == pytest.approx(4.4)
+    assert out["true_speed1_m"] == 0.0
+    # A real trace has no truth to bin by.
+    assert np.isnan(_speed_reads(_Result(track=track), None)["read_speed0_m"])
+
+
 @pytest.mark.parametrize("sway", [0.0, 0.3])
 def test_the_lead_of_a_corner_mark_is_read_from_the_gyros_turn(sway):
     """A 90° left turn centred 0.8 s after the corner was marked, on a level phone,
@@ -288,6 +319,12 @@ def _scores() -> pd.DataFrame:
                         "paced_near_m": 4.0,
                         "read_between_m": 8.0,
                         "paced_between_m": 10.0,
+                        # Read short at the brisk pace only: 9 of 10 m there, 30 of 30 usual.
+                        **dict.fromkeys(SPEED_READ_KEYS, 0.0),
+                        "read_speed1_m": 30.0,
+                        "true_speed1_m": 30.0,
+                        "read_speed2_m": 9.0,
+                        "true_speed2_m": 10.0,
                     }
                 )
     return pd.DataFrame(rows)
@@ -345,6 +382,8 @@ def test_the_section_names_the_signals_on_which_the_twins_depart(tmp_path):
     assert "| a | 15.0 | 2.0 | 1.00 | 0.50 | 2.00 (outside 0.8–1.25) |" in text
     # Near the marks and between them, over the legs' mean speeds: sums over the traces.
     assert "| a | 0.75 | 1.00 | 1.00 | 0.80 |" in text
+    # The twins' speed read by true speed, with the share of the distance walked at it.
+    assert "| a | nan (0.00) | 1.00 (0.75) | 0.90 (0.25) | nan (0.00) |" in text
     departs = next(line for line in text.splitlines() if line.startswith("Where the twins depart"))
     assert "‖a‖ std while walking (3.00)" in departs
     assert "rate of turn at the stride rate (0.50)" in departs
