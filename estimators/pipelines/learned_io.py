@@ -126,10 +126,11 @@ estimator reads their approaches short against the leg's mean speed (this one 0.
 ``pdr-basic`` 0.63; the twins, paced leg by leg, 0.86 and 0.87), and between the marks
 this network reads them at the leg's mean speed (1.00) where ``pdr-basic`` reads them
 faster than their twins. Twins made to stand 0.3 s at each waypoint approach it as the
-surveyors do, and the network reads them at 0.90; on simulated walks it reads 1.3–1.5
-m/s at 0.94 of the truth and faster at 0.80, so brisk walking between stops is read
-short. Trained on 0.9–1.7 m/s it read the real traces at 0.90, at a higher error there
-and on the twins, and was not kept (``leaderboards/commentary.md``).
+surveyors do, and the network reads them at 0.90; on the twins it reads the distance
+walked at 1.5 m/s and over at 0.88 of the truth (``sim_to_real._speed_reads``), so
+brisk walking between stops is read short. Trained on 0.9–1.7 m/s it read the real
+traces at 0.90, at a higher error there and on the twins, and was not kept
+(``leaderboards/commentary.md``).
 
 Per window
 ----------
