@@ -266,6 +266,7 @@ def walk_signals(rec: Recording) -> dict[str, float]:
     swings = [s.a_max - s.a_min for s in steps if first <= s.t <= last]
     vigour = vigour_powers(rec)
     leads = waypoint_lead(rec)
+    lead = float(np.median(leads)) if len(leads) else float("nan")
     return (
         {
             "step_hz": stats["step_hz"],
@@ -282,12 +283,26 @@ def walk_signals(rec: Recording) -> dict[str, float]:
         | {
             "hard_iron": iron.horizontal_uT if iron is not None else float("nan"),
             "mag_std_iron_free": iron_free["mag_std"],
-            "lead": float(np.median(leads)) if len(leads) else float("nan"),
+            "lead": lead,
         }
         | _straightness(rec)
         | _pace(rec)
-        | _approach(rec, steps, float(np.median(leads)) if len(leads) else 0.0)
+        | _approach(rec, steps, lead if len(leads) else 0.0)
     )
+
+
+def _leg_position(
+    passing: NDArray[np.float64], t: NDArray[np.float64]
+) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.bool_]]:
+    """For each time ``t``: the leg it falls in (between the walker's passing of two
+    waypoints, ``passing``), how far into that leg's time it is (0 … 1), and whether it
+    falls in a leg at all."""
+    took = np.diff(passing)
+    leg = np.searchsorted(passing, t, side="right") - 1
+    inside = (leg >= 0) & (leg < len(took))
+    leg = np.clip(leg, 0, len(took) - 1)
+    into = np.divide(t - passing[leg], took[leg], out=np.zeros(len(t)), where=took[leg] > 0)
+    return leg, into, inside
 
 
 def _approach(rec: Recording, steps: Sequence, lead_s: float) -> dict[str, float]:
@@ -308,17 +323,17 @@ def _approach(rec: Recording, steps: Sequence, lead_s: float) -> dict[str, float
         return out
     passing = rec.waypoints.index.to_numpy(dtype=float) + lead_s
     took = np.diff(passing)
-    t = np.array([s.t for s in steps])
+    t = np.array([s.t for s in steps], dtype=float)
     swing = np.array([s.a_max - s.a_min for s in steps])
+    _, into, inside = _leg_position(passing, t)
     for key, (lo, hi) in (
         ("approach", (1.0 - LEG_END_SHARE, 1.0)),
         ("between", (LEG_END_SHARE, 1.0 - LEG_END_SHARE)),
     ):
-        starts, ends = passing[:-1] + lo * took, passing[:-1] + hi * took
-        within = ((t[:, None] >= starts) & (t[:, None] < ends)).any(axis=1) if len(t) else []
-        span = float(np.clip(ends - starts, 0.0, None).sum())
-        if span > 0 and np.any(within):
-            out[f"{key}_step_hz"] = float(np.sum(within) / span)
+        within = inside & (into >= lo) & (into < hi)
+        span = (hi - lo) * float(took[took > 0].sum())
+        if span > 0 and within.any():
+            out[f"{key}_step_hz"] = float(within.sum() / span)
             out[f"{key}_swing"] = float(np.median(swing[within]))
     return out
 
@@ -411,6 +426,13 @@ SIGNALS = {
 LEG_PART_KEYS = ("read_near_m", "paced_near_m", "read_between_m", "paced_between_m")
 
 
+def _answer_steps(track: pd.DataFrame) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """An estimator's answer times, and how far its own track goes between consecutive
+    answers (one fewer)."""
+    t = track["t"].to_numpy(dtype=float)
+    return t, np.linalg.norm(np.diff(track[["x", "y"]].to_numpy(dtype=float), axis=0), axis=1)
+
+
 def _leg_parts(result: WalkResult, rec: Recording, lead_s: float) -> dict[str, float]:
     """Where along its legs an estimator's track walks its distance: the length of its
     own track (every answer) near the marks — the first and last :data:`LEG_END_SHARE`
@@ -432,15 +454,10 @@ def _leg_parts(result: WalkResult, rec: Recording, lead_s: float) -> dict[str, f
     speed = np.divide(
         np.linalg.norm(np.diff(xy, axis=0), axis=1), took, out=np.zeros(len(took)), where=took > 0
     )
-    t = track["t"].to_numpy(dtype=float)
-    walked = np.linalg.norm(np.diff(track[["x", "y"]].to_numpy(dtype=float), axis=0), axis=1)
+    t, walked = _answer_steps(track)
     centre, dt = 0.5 * (t[1:] + t[:-1]), np.diff(t)
-    leg = np.searchsorted(passing, centre, side="right") - 1
-    inside = (leg >= 1) & (leg < len(took))
-    leg = np.clip(leg, 0, len(took) - 1)
-    into = np.divide(
-        centre - passing[leg], took[leg], out=np.zeros(len(centre)), where=took[leg] > 0
-    )
+    leg, into, inside = _leg_position(passing, centre)
+    inside &= leg >= 1
     near = inside & ((into < LEG_END_SHARE) | (into > 1.0 - LEG_END_SHARE))
     between = inside & ~near
     paced = speed[leg] * dt
@@ -473,8 +490,7 @@ def _speed_reads(result: WalkResult, truth: pd.DataFrame | None) -> dict[str, fl
         return out
     tt = truth.index.to_numpy(dtype=float)
     gone = cumsum0(np.linalg.norm(np.diff(truth[["x", "y"]].to_numpy(dtype=float), axis=0), axis=1))
-    t = track["t"].to_numpy(dtype=float)
-    read = np.linalg.norm(np.diff(track[["x", "y"]].to_numpy(dtype=float), axis=0), axis=1)
+    t, read = _answer_steps(track)
     true = np.diff(np.interp(t, tt, gone))
     dt = np.diff(t)
     speed = np.divide(true, dt, out=np.zeros(len(dt)), where=dt > 0)

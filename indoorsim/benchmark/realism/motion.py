@@ -439,17 +439,18 @@ def held_phone_motion(rec: Recording, sig: WalkingSignals | None = None) -> dict
         power = float(np.sum(np.abs(bob_2nd) ** 2))
         if power > 0:
             out["nod_2nd"] = float(abs(np.sum(nod_2nd * np.conj(bob_2nd))) / power)
-        shape = bob_2nd * np.conj(bob) ** 2
-        sizes = np.abs(shape)
-        if (sizes > 0).any():
-            out["bob_phase_2nd"] = math.degrees(
-                np.angle(np.sum(shape[sizes > 0] / sizes[sizes > 0]))
-            )
-        lead = surge * np.conj(bob)
-        sizes = np.abs(lead)
-        if (sizes > 0).any():
-            out["surge_phase"] = math.degrees(np.angle(np.sum(lead[sizes > 0] / sizes[sizes > 0])))
+        out["bob_phase_2nd"] = _mean_phase_deg(bob_2nd * np.conj(bob) ** 2)
+        out["surge_phase"] = _mean_phase_deg(surge * np.conj(bob))
     return out
+
+
+def _mean_phase_deg(z: NDArray[np.complex128]) -> float:
+    """The mean direction of the windows' complex products ``z``, each of unit weight
+    (its angle alone counts, not its size), in degrees; NaN if every one is zero."""
+    sizes = np.abs(z)
+    if not (sizes > 0).any():
+        return math.nan
+    return math.degrees(np.angle(np.sum(z[sizes > 0] / sizes[sizes > 0])))
 
 
 def roll_jerk_correlation(
