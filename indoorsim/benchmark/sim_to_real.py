@@ -30,6 +30,7 @@ marks relies on.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -100,6 +101,15 @@ TWIN_MODE = HELD_FLAT
 walkers' vigour is fitted through for the real walkers' table, too)."""
 TWIN_BASE_DEVICE = "mid_grade"
 """What a trace's calibration cannot show (scale factors, bias drift, light) comes from it."""
+TWIN_MARK_SPEED = (0.35, 0.65)
+"""How slowly the twins pass each point of their route, as a fraction of the speed around
+it (:attr:`~indoorsim.walker.gait.WalkerParams.mark_speed`, drawn per point): the ILC
+surveyors tap each waypoint as they pass it, stepping with a third of their swing over
+the last fifth of a leg's time (the median low-passed ‖a‖ swing per step, 3.1 m/s²,
+against 9.1 between the marks; :func:`walk_signals`). Twins walking through their marks
+give 4.6 and 7.6; slowing to 0.5 of their speed, 2.8 and 8.5 (to 0.3: 2.3 and 9.8): the
+range is what the real swings bracket (2026-12-08, one seed per trace). A route's
+points round walls, which no surveyor marked, are slowed at too."""
 
 
 def passing_times(truth: pd.DataFrame, waypoints: NDArray[np.float64]) -> NDArray[np.int64]:
@@ -620,6 +630,7 @@ def twin_table(
     signals: list[dict] = []
     for name, real in reals.items():
         cal = calibrate(real, name=f"twin of {name}", base=TWIN_BASE_DEVICE, mode=TWIN_MODE)
+        walker = dataclasses.replace(cal.walker, mark_speed=TWIN_MARK_SPEED)
         waypoints = twins.marks[name]
         for est in estimators:
             if progress:
@@ -631,7 +642,7 @@ def twin_table(
             if progress:
                 progress(f"sim-to-real {name} twin seed {seed}")
             walk = simulate(
-                site, route=name, mode=TWIN_MODE, device=cal.device, walker=cal.walker, seed=seed
+                site, route=name, mode=TWIN_MODE, device=cal.device, walker=walker, seed=seed
             )
             twin = as_real_log(walk, waypoints, lead_s=lead)
             signals.append({"trace": name, "data": "sim", "seed": seed} | walk_signals(twin))
@@ -774,7 +785,9 @@ def write_twin_section(out: Path, results: TwinResults) -> list[str]:
         "its waypoints, the phone held flat, and the phone and walker "
         "`indoorsim calibrate` fits to the trace (the walker's height, speed and "
         "cadence, how far it stood turned before its first step, and its vigour through "
-        "the flat-held phone: bounce, loading peak and heel strikes). Both scored the "
+        "the flat-held phone: bounce, loading peak and heel strikes), slowing to "
+        f"{TWIN_MARK_SPEED[0]:g}–{TWIN_MARK_SPEED[1]:g} of its speed as it passes each "
+        "waypoint, as the real surveyors do when they tap one. Both scored the "
         "same way, at the "
         "waypoints, from the first waypoint heading to the second. A real waypoint is "
         "marked before its surveyor reaches it: at the corners the gyro's turn comes "

@@ -98,6 +98,11 @@ class WalkerRanges(_Strict):
     asymmetry: Range = Range(low=-0.03, high=0.03)
     stop_rate_per_min: Range = Range(low=0.0, high=0.5)
     """Mid-walk stops per minute of walking (Poisson)."""
+    mark_speed: Range = Range(low=1.0, high=1.0)
+    """Range of the slowest speed, as a fraction of the speed around it, at which a walk
+    passes each inner point of its route (a corner of a shortest path, a goal), drawn
+    per point inside the walk (:attr:`~indoorsim.walker.gait.WalkerParams.mark_speed`):
+    no slowing by default."""
     vigour: Literal["real", "default"] = "real"
     """``"real"``: each walk takes the vigour (bounce, loading peak, heel strikes) of
     one real walker, drawn from :mod:`indoorsim.walker.real_walkers`' table of
@@ -116,6 +121,7 @@ class WalkerRanges(_Strict):
             "step_time_cv": (0.0, 0.1),
             "asymmetry": (-0.49, 0.49),
             "stop_rate_per_min": (0.0, 60.0),
+            "mark_speed": (0.05, 1.0),
         }
         for name, (lo, hi) in limits.items():
             r = getattr(self, name)

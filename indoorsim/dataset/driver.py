@@ -263,6 +263,8 @@ def prepare_folder(out: Path, config: DatasetConfig) -> None:
         if isinstance(stored, dict) and isinstance(stored.get("walker"), dict):
             # A data set started before walkers took real vigour was made without it.
             stored["walker"].setdefault("vigour", "default")
+            # ... and before walkers could slow at their route's points (none did).
+            stored["walker"].setdefault("mark_speed", {"low": 1.0, "high": 1.0})
         diff = (
             config_difference(stored, wanted) if isinstance(stored, dict) else ["<not a mapping>"]
         )

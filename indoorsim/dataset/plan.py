@@ -93,7 +93,7 @@ class WalkSpec:
     site: int
     index: int
     device: str
-    walker: dict[str, float]
+    walker: dict[str, float | list[float]]
     modes: list[list[Any]]
     route_seed: int
     seed: int
@@ -224,6 +224,9 @@ def _walk(config: DatasetConfig, site: int, j: int) -> WalkSpec:
             "stop_rate_per_min",
         )
     }
+    if (ranges.mark_speed.low, ranges.mark_speed.high) != (1.0, 1.0):
+        # A range the walk draws from at each of its route points: no draw here.
+        walker["mark_speed"] = [ranges.mark_speed.low, ranges.mark_speed.high]
     if ranges.vigour == "real":
         # Its own stream: choosing the vigour moves no other draw of the walk.
         walker |= draw_real_vigour(_rng(config.seed, _VIGOUR, site, j))

@@ -2,7 +2,9 @@
 
 * :mod:`~indoorsim.walker.route` — waypoints, or a shortest path between two points;
 * :mod:`~indoorsim.walker.path` — the walked path: smoothed corners, keeping off walls;
-* :mod:`~indoorsim.walker.gait` — speed profile, step events, and :func:`walk`,
+* :mod:`~indoorsim.walker.pacing` — the speed profile along the path: legs paced to their
+  times, slowing at the route's points;
+* :mod:`~indoorsim.walker.gait` — the walker's parameters, step events, and :func:`walk`,
   which ties the stages into a :class:`~indoorsim.walker.gait.BodyTrajectory`;
 * :mod:`~indoorsim.walker.physics` — the body as a pymunk disc steered against the walls;
 * :mod:`~indoorsim.walker.motion` — intra-step motion: bounce, sway, trunk yaw, heel strikes;

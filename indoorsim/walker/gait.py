@@ -8,10 +8,12 @@ each in its own module:
    curve with a sin² curvature profile, shortened near walls and where the
    legs are short; sharp or cramped corners are turned on the spot; the path
    bends smoothly away from walls it comes too close to.
-2. **Speed profile** (here). Along the path the desired speed is the cruising
-   speed with a slow random fluctuation, capped so that speed × curvature
+2. **Speed profile** (:mod:`indoorsim.walker.pacing`). Along the path the desired
+   speed is the cruising speed with a slow random fluctuation, dipped where the
+   walker slows at route points (``mark_speed``), capped so that speed × curvature
    stays within the yaw-rate limit, zero at both ends of every walking bout
-   (route ends, stops, pivots), with bounded acceleration and deceleration.
+   (route ends, stops, pivots), with bounded acceleration and deceleration; a
+   twin's legs are paced to their real times.
 3. **Steps** (here). In each bout the cadence–speed relation
    (:func:`cadence_hz`) gives nominal heel strikes; step times and lengths
    then get their random variation (coefficients of variation, left/right
@@ -42,7 +44,6 @@ import numbers
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-import numba
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
@@ -54,7 +55,8 @@ from scipy.signal import lfilter
 
 from indoorsim.walker.meander import keep_room, lateral_meander
 from indoorsim.walker.motion import impulse_displacement, intra_step_motion
-from indoorsim.walker.path import SmoothPath, cumsum0, first_pass, hermite_spline
+from indoorsim.walker.pacing import leg_ends, mark_slowing, paced_legs, speed_profile
+from indoorsim.walker.path import SmoothPath, cumsum0, hermite_spline, smootherstep
 from indoorsim.walker.physics import steer
 from indoorsim.walker.route import Route
 
@@ -93,17 +95,6 @@ _YAW_MARGIN = 0.85
 _LENGTH_REVERSION = 0.25
 # Speed-profile grid spacing along the path (m).
 _PROFILE_DS_M = 0.01
-# Pacing a route's legs (_paced_legs): the grid of its speed profile (m), the
-# fixed-point passes (each leaves a leg within a few per cent of its time), and
-# the range of a leg's speed cap (m/s): brisk walking tops out near 2 m/s.
-_PACE_DS_M = 0.05
-_PACE_PASSES = 12
-_PACE_CAP_MPS = (0.15, 2.0)
-# Where a route point falls on the walked path (_leg_ends): sampled this finely (m),
-# the first pass within this of the closest (m; a corner's arc misses its waypoint by
-# a few centimetres to decimetres).
-_PASS_DS_M = 0.02
-_PASS_SLACK_M = 0.5
 # Stops keep this far (m) from the route ends, pivots and each other.
 _STOP_GAP_M = 3.0
 # A walk cut short still steers its body this long past the cut (s).
@@ -137,17 +128,6 @@ def cadence_hz(speed_mps: ArrayLike, height_m: float = 1.70) -> NDArray[np.float
     """
     v = np.asarray(speed_mps, dtype=float)
     return v / step_length_m(v, height_m)
-
-
-def smootherstep(x: ArrayLike) -> NDArray[np.float64]:
-    """0 → 1 over x in [0, 1], 6x⁵ − 15x⁴ + 10x³, flat (zero slope and curvature)
-    at both ends: blending with it keeps a C² motion C².
-
-    >>> smootherstep([-1.0, 0.5, 2.0]).tolist()
-    [0.0, 0.5, 1.0]
-    """
-    x = np.clip(x, 0.0, 1.0)
-    return x**3 * (x * (6.0 * x - 15.0) + 10.0)
 
 
 @dataclass(kw_only=True, frozen=True)
@@ -191,6 +171,15 @@ class WalkerParams:
     """Mean number of mid-walk stops per minute of walking (Poisson)."""
     stop_duration_s: tuple[float, float] = (2.0, 6.0)
     """Range of a stop's duration (uniform)."""
+    mark_speed: tuple[float, float] = (1.0, 1.0)
+    """Range of the slowest speed, as a fraction of the speed around it, at which the
+    walker passes each inner point of the route, drawn per point (1: no slowing). Real
+    surveyors tap each waypoint as they pass it: the ILC traces step at 1.3 steps/s
+    with half their usual swing in the second before they pass a mark, at 1.8 around
+    it; pedestrians slow likewise at junctions, doors and goals [E]."""
+    mark_slowing_m: float = 1.0
+    """How far before and after a route point that slowing reaches (m): decelerating
+    from usual pace to a third of it at ``max_accel_mps2`` takes about a metre."""
     max_yaw_rate_dps: float = 150.0
     """Largest heading rate while turning (peaks of 90–180 °/s)."""
     turn_steps_per_90deg: float = 2.5
@@ -288,6 +277,8 @@ class WalkerParams:
             "start_turn_s": self.start_turn_s > 0,
             "stop_rate_per_min": self.stop_rate_per_min >= 0,
             "stop_duration_s": 0 < self.stop_duration_s[0] <= self.stop_duration_s[1],
+            "mark_speed": 0.05 <= self.mark_speed[0] <= self.mark_speed[1] <= 1.0,
+            "mark_slowing_m": 0.1 <= self.mark_slowing_m <= 10.0,
             "max_yaw_rate_dps": self.max_yaw_rate_dps > 0,
             "turn_steps_per_90deg": self.turn_steps_per_90deg > 0,
             "pivot_turn_deg": 0 < self.pivot_turn_deg < 180,
@@ -452,8 +443,17 @@ def walk(
     ).keep_off_walls(plan, params.wall_distance_m)
     dwells = _dwells(path, params, v_cruise, omega_lim, rng)
     speed_factor = _speed_fluctuation(path.length, params, rng)
+    half_step = 0.5 * float(step_length_m(v_cruise, height))
+    if params.mark_speed != (1.0, 1.0) and len(route.points) > 2:
+        # Slowing at the route's inner points (a surveyor's marks), before the legs are
+        # paced: a paced leg keeps its time, walked faster between its ends.
+        slowest = rng.uniform(*params.mark_speed, len(route.points) - 2)
+        ends = leg_ends(path, route.points)
+        speed_factor = mark_slowing(ends, speed_factor, slowest, params.mark_slowing_m)
     if route.leg_speeds is not None:
-        speed_factor = _paced_legs(path, route, dwells, v_cruise, omega_lim, speed_factor, params)
+        speed_factor = paced_legs(
+            path, route, dwells, v_cruise, omega_lim, half_step, speed_factor, params
+        )
     first_left = bool(rng.random() < 0.5)
 
     # Walking bouts between the dwells, each from rest to rest.
@@ -631,80 +631,6 @@ def _speed_fluctuation(
     return s, np.clip(factor, 1.0 - lim, 1.0 + lim)
 
 
-def _leg_ends(path: SmoothPath, points: NDArray[np.float64]) -> NDArray[np.float64]:
-    """(L,) distance along the walked path of each route point: 0, where the path first
-    comes closest to each inner point, searched in order from the previous one within a
-    leg and a half (:func:`~.path.first_pass`, so that a route coming back past a point
-    is not taken for its first pass), the length. An end within :data:`_PASS_SLACK_M`
-    of a turn on the spot is put at it: the turn starts the leg after it."""
-    ends = np.empty(len(points))
-    ends[0], ends[-1] = 0.0, path.length
-    legs = np.linalg.norm(np.diff(points, axis=0), axis=1)
-    pivots = np.array([s for s, _ in path.pivots])
-    for i in range(1, len(points) - 1):
-        lo = ends[i - 1]
-        hi = min(path.length, lo + 1.5 * legs[i - 1] + 2.0)
-        along = np.linspace(lo, hi, max(2, math.ceil((hi - lo) / _PASS_DS_M) + 1))
-        gap = np.linalg.norm(path.position(along) - points[i], axis=1)
-        ends[i] = along[first_pass(gap, _PASS_SLACK_M)]
-        if len(pivots):
-            k = int(np.argmin(np.abs(pivots - ends[i])))
-            if abs(pivots[k] - ends[i]) <= _PASS_SLACK_M and pivots[k] >= lo:
-                ends[i] = pivots[k]
-    return ends
-
-
-def _paced_legs(
-    path: SmoothPath,
-    route: Route,
-    dwells: list[_Dwell],
-    v_cruise: float,
-    omega_lim: float,
-    speed_factor: tuple[NDArray[np.float64], NDArray[np.float64]],
-    params: WalkerParams,
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """The cruising-speed factor with each leg's own speed cap, set so that every leg
-    of the route takes its length over its ``leg_speeds`` entry.
-
-    A leg's mean speed is below its cap: the walker starts, stops and slows for
-    turns within it. So the caps are found by fixed-point iteration on the walk's
-    speed profile (the bouts' own, :func:`_speed_profile`, over the whole path,
-    at rest at every dwell, whose time counts to its leg, and the standing
-    before the first step to the first leg: a route's time starts at its first
-    waypoint, as a surveyor's first mark does): each pass scales a leg's cap by
-    the time it took over the time it should. Caps stay within
-    :data:`_PACE_CAP_MPS`; a leg too short to reach its speed, or holding more
-    standing than its time, takes longer. Deterministic: no random draw.
-    """
-    assert route.leg_speeds is not None
-    ends = _leg_ends(path, route.points)
-    target = np.linalg.norm(np.diff(route.points, axis=0), axis=1) / route.leg_speeds
-    n = max(2, math.ceil(path.length / _PACE_DS_M))
-    grid = np.linspace(0.0, path.length, n + 1)
-    leg = np.clip(np.searchsorted(ends, grid, side="right") - 1, 0, len(target) - 1)
-    fluctuation = np.interp(grid, *speed_factor)
-    curve_cap = omega_lim / np.maximum(
-        path.max_curvature(grid, 0.5 * float(step_length_m(v_cruise, params.height_m))), 1e-9
-    )
-    at = [d.s for d in dwells]
-    rest = np.searchsorted(grid, at).clip(0, n)
-    standing = np.bincount(
-        np.clip(np.searchsorted(ends, at, side="right") - 1, 0, len(target) - 1),
-        weights=[d.duration for d in dwells],
-        minlength=len(target),
-    )
-    standing[0] += params.stand_start_s
-    cap = np.clip(np.asarray(route.leg_speeds, dtype=float), *_PACE_CAP_MPS)
-    v, dtau = np.empty(len(grid)), np.empty(len(grid) - 1)
-    for _ in range(_PACE_PASSES):
-        v_lim = np.minimum(cap[leg] * fluctuation, curve_cap)
-        v_lim[rest] = 0.0
-        _speed_profile(grid, v_lim, 0.0, 2.0 * params.max_accel_mps2, v, dtau)
-        took = np.diff(np.interp(ends, grid, cumsum0(dtau))) + standing
-        cap = np.clip(cap * took / target, *_PACE_CAP_MPS)
-    return grid, cap[leg] * fluctuation / v_cruise
-
-
 @dataclass(frozen=True)
 class _Bout:
     """One walk from rest to rest: heel-strike knots and their smooth interpolants."""
@@ -762,7 +688,7 @@ class _Bout:
         v_lim = v_cruise * np.interp(grid, *speed_factor)
         v_lim = np.minimum(v_lim, omega_lim / np.maximum(kappa, 1e-9))
         v, dtau = np.empty(len(grid)), np.empty(len(grid) - 1)
-        _speed_profile(grid, v_lim, s_a, 2.0 * params.max_accel_mps2, v, dtau)
+        speed_profile(grid, v_lim, s_a, 2.0 * params.max_accel_mps2, v, dtau)
         # Time along the profile (exact for constant acceleration between knots).
         tau = cumsum0(dtau)
 
@@ -820,38 +746,6 @@ class _Bout:
             distance=distance,
             phase=_knot_spline(t_knots, n0 + np.arange(count + 1.0), natural=True),
         )
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _speed_profile(grid, v_lim, s_a, two_a, v, dtau):  # pragma: no cover - compiled
-    """The bout's speed ``v`` on ``grid`` under the cap ``v_lim``, 0 at both ends, and
-    the time ``dtau`` from each grid point to the next.
-
-    The acceleration passes are closed forms of the usual forward/backward
-    sweeps, v²(s) ≤ v²(s') + 2a|s − s'|, with x = 2a·(s − s_a):
-    w = min(w, x + running min of (w − x)), then the same backwards with
-    w + x; v = √max(w, 0), and dtau = 2·Δs / max(v + v_next, 1e-12) (exact
-    for constant acceleration between grid points). One pass each, with the
-    same operations as the array expressions they replace.
-    """
-    n = len(grid)
-    x = np.empty(n)  # 2a·(s − s_a)
-    w = np.empty(n)  # v²: the cap squared, then after each sweep
-    for i in range(n):
-        x[i] = two_a * (grid[i] - s_a)
-        w[i] = 0.0 if i == 0 or i == n - 1 else v_lim[i] * v_lim[i]
-    low = np.inf
-    for i in range(n):
-        low = min(low, w[i] - x[i])
-        w[i] = min(w[i], x[i] + low)
-    low = np.inf
-    for i in range(n - 1, -1, -1):
-        low = min(low, w[i] + x[i])
-        w[i] = min(w[i], low - x[i])
-    for i in range(n):
-        v[i] = math.sqrt(max(w[i], 0.0))
-    for i in range(n - 1):
-        dtau[i] = 2.0 * (grid[i + 1] - grid[i]) / max(v[i + 1] + v[i], 1e-12)
 
 
 def _knot_spline(x: NDArray[np.float64], y: NDArray[np.float64], natural: bool) -> PPoly:

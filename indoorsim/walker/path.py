@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING
 import numba
 import numpy as np
 import shapely
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import cumulative_trapezoid
 from scipy.interpolate import PPoly
 from scipy.ndimage import gaussian_filter1d
@@ -44,7 +44,7 @@ from scipy.ndimage import gaussian_filter1d
 if TYPE_CHECKING:
     from indoorsim.world.plan import FloorPlan
 
-__all__ = ["SmoothPath", "cumsum0", "first_pass", "hermite_spline"]
+__all__ = ["SmoothPath", "cumsum0", "first_pass", "hermite_spline", "smootherstep"]
 
 # Corner curves are sampled this often along their length (m).
 _CURVE_DS_M = 0.005
@@ -623,3 +623,14 @@ def first_pass(gap: NDArray[np.float64], slack: float) -> int:
     breaks = np.flatnonzero(np.diff(near) > 1)
     end = near[breaks[0]] + 1 if len(breaks) else near[-1] + 1
     return int(near[0] + np.argmin(gap[near[0] : end]))
+
+
+def smootherstep(x: ArrayLike) -> NDArray[np.float64]:
+    """0 → 1 over x in [0, 1], 6x⁵ − 15x⁴ + 10x³, flat (zero slope and curvature)
+    at both ends: blending with it keeps a C² motion C².
+
+    >>> smootherstep([-1.0, 0.5, 2.0]).tolist()
+    [0.0, 0.5, 1.0]
+    """
+    x = np.clip(x, 0.0, 1.0)
+    return x**3 * (x * (6.0 * x - 15.0) + 10.0)

@@ -164,3 +164,34 @@ def test_each_walk_takes_one_real_walkers_vigour_by_default_and_nothing_else_mov
             b.seed,
             b.route_seed,
         )
+
+
+def test_walkers_slow_at_route_points_only_where_the_config_says_and_nothing_else_moves(
+    tmp_path,
+):
+    import json
+
+    from indoorsim.dataset.driver import prepare_folder
+    from indoorsim.walker.gait import WalkerParams
+
+    slowing, plain = _plan(walker={"mark_speed": {"low": 0.2, "high": 0.9}}), _plan()
+    for a, b in zip(slowing.walks, plain.walks, strict=True):
+        assert "mark_speed" not in b.walker
+        assert a.walker.pop("mark_speed") == [0.2, 0.9]  # a range, drawn per route point
+        assert (a.walker, a.device, a.modes, a.seed, a.route_seed) == (
+            b.walker,
+            b.device,
+            b.modes,
+            b.seed,
+            b.route_seed,
+        )
+    assert WalkerParams(mark_speed=[0.2, 0.9]).mark_speed == (0.2, 0.9)
+    with pytest.raises(ValueError, match="mark_speed"):
+        DatasetConfig(**BASE, walker={"mark_speed": {"low": 0.0, "high": 0.5}})
+    # A folder from before the setting (its config has no walker.mark_speed) resumes.
+    old, config = tmp_path / "old", DatasetConfig(**BASE).resolved()
+    prepare_folder(old, config)
+    saved = json.loads((old / "config.json").read_text())
+    del saved["walker"]["mark_speed"]
+    (old / "config.json").write_text(json.dumps(saved))
+    prepare_folder(old, config)

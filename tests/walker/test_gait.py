@@ -248,3 +248,47 @@ def test_bout_splines_are_scipys_cubic_splines_to_the_bit(natural: bool) -> None
         ours, scipys = _knot_spline(x, y, natural=natural), CubicSpline(x, y, bc_type=bc)
         np.testing.assert_array_equal(ours.c, scipys.c)
         np.testing.assert_array_equal(ours.x, scipys.x)
+
+
+def test_walker_slows_at_each_route_point_and_cruises_between(corridor):
+    # Points every 8 m on a straight corridor: the walker passes each inner one at about
+    # the drawn fraction of its speed and is back at cruise midway between them.
+    points = [(1.0 + 8.0 * k, 1.5) for k in range(5)]
+    route = plan_route(corridor, RouteSpec(waypoints=points, speed=1.3))
+    calm = {"speed_cv": 0.0, "meander_m": 0.0}
+    params = WalkerParams(mark_speed=0.3, **calm)
+    body = walk(corridor, route, params, np.random.default_rng(5))
+    x = body.pos[:, 0]
+    # The speed averaged over a stride (the within-step surge averages out there).
+    stride = round(1.1 * body.rate_hz)
+    mean_speed = np.convolve(body.speed, np.ones(stride) / stride, mode="same")
+    for k in (1, 2, 3):
+        at = np.argmin(np.abs(x - points[k][0]))
+        mid = np.argmin(np.abs(x - points[k][0] - 4.0))
+        assert mean_speed[at] == pytest.approx(0.3 * 1.3, abs=0.15)
+        assert mean_speed[mid] == pytest.approx(1.3, rel=0.06)
+    # The steps keep coming through the slowing: shorter, not stopped.
+    assert body.moving[(x > 8.5) & (x < 9.5)].all()
+    plain = walk(corridor, route, WalkerParams(**calm), np.random.default_rng(5))
+    assert body.t[-1] > plain.t[-1] + 3 * 1.0
+
+
+def test_paced_legs_keep_their_times_when_the_walker_slows_at_points(l_plan):
+    # A twin slowing at its marks walks faster between them, each leg in its time.
+    points = [(1.0, 1.0), (11.0, 1.0), (11.0, 5.0), (11.0, 9.0)]
+    speeds = [1.0, 0.9, 0.8]
+    spec = RouteSpec(waypoints=points, leg_speeds=speeds)
+    params = WalkerParams(mark_speed=(0.25, 0.4))
+    body = walk(l_plan, plan_route(l_plan, spec), params, np.random.default_rng(3))
+    at, start, passing = [0.0], 0, []
+    for p in points[1:]:
+        start += first_pass(np.linalg.norm(body.pos[start:, :2] - p, axis=1), 0.5)
+        at.append(body.t[start])
+        passing.append(start)
+    lengths = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    assert np.diff(at) == pytest.approx(lengths / speeds, rel=0.1)
+    # ... and passes each inner mark well below its legs' speeds (over half a second).
+    half = int(0.25 * body.rate_hz)
+    for k in (1, 2):
+        i = passing[k - 1]
+        assert body.speed[i - half : i + half].mean() < 0.7 * min(speeds[k - 1], speeds[k])
