@@ -132,6 +132,13 @@ brisk walking between stops is read short. Trained on 0.9–1.7 m/s it read the 
 traces at 0.90, at a higher error there and on the twins, and was not kept
 (``leaderboards/commentary.md``).
 
+The twins now slow to 0.35–0.65 of their speed at each waypoint, as the surveyors'
+step swings there say (``sim_to_real.TWIN_MARK_SPEED``); this ensemble reads them at
+0.95 (2.22 m), and ``pdr-basic`` reads them at the real traces' 0.78. Trained on walkers
+who slow at every point of their routes (``walker.mark_speed: 0.2–1.0``), a new
+ensemble read those twins alike (0.95, 2.25 m) and the real traces shorter (0.85,
+2.71 m): not kept.
+
 Per window
 ----------
 
