@@ -89,10 +89,11 @@ class WalkerRanges(_Strict):
     ``learned-io``: it read fast walking better (the ILC traces' windows at 1.4–1.8 m/s
     at 0.89 of their speed, against 0.85) but every usual pace worse (its error on
     the bundled sites' held and calling walks rose by 0.3–0.4 m), so the range stays
-    where indoor walking is. Nor was 0.9–1.7 m/s (2026-12-07), though the ILC surveyors
-    walk briskly between the marks where they slow: its ensemble read the real traces'
-    distance at 0.90 (this one 0.88) but their twins 0.05 m worse (2.28 m) and the
-    real traces 0.15 m worse (2.86 m), at the same error on the bundled sites."""
+    where indoor walking is. ``learned-io``'s data set takes 0.9–1.7 m/s: the ILC
+    surveyors walk briskly between the marks where they slow, and since their twins
+    slow there too (2026-12-08) its ensemble reads the twins better (2.19 m against
+    2.22), at the same error on the bundled sites (2026-12-07, when the twins did not
+    slow, it read them 0.05 m worse and was not kept)."""
     step_length_cv: Range = Range(low=0.03, high=0.05)
     step_time_cv: Range = Range(low=0.02, high=0.03)
     asymmetry: Range = Range(low=-0.03, high=0.03)
