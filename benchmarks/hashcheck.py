@@ -21,8 +21,9 @@ the refactors it checks):
 * ``imported``: the MS Indoor Location floor as ``import-plan`` makes it, with the
   real traces' routes (the sim-to-real twins' site: YAML text and field,
   illuminance and RSS on a grid), and the twin of its first trace: the
-  calibrated phone and walker, and the recording they walk (skipped, with 0
-  items, where the real data is absent);
+  calibrated phone and walker, and the recording they walk, as it is and slowing at
+  its marks as the sim-to-real table walks it (skipped, with 0 items, where the real
+  data is absent);
 * ``dataset``: a 4-shard data set (shard bytes and the card's counts and
   checksums; timings and versions excluded);
 * ``leaderboard``: the quick leaderboard's metric columns (run-time columns,
@@ -34,6 +35,7 @@ Prints one hash per item and a TOTAL; exits 1 when ``--against`` finds a differe
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import hashlib
 import json
 import sys
@@ -167,7 +169,12 @@ def imported() -> Iterator[tuple[str, str]]:
     # Imported here, not at the top: the sim-to-real twins are not the public API the
     # other groups use, and a moved module must not stop those.
     from indoorsim.benchmark.realism.calibrate import calibrate
-    from indoorsim.benchmark.sim_to_real import TWIN_BASE_DEVICE, TWIN_MODE, twin_site
+    from indoorsim.benchmark.sim_to_real import (
+        TWIN_BASE_DEVICE,
+        TWIN_MARK_SPEED,
+        TWIN_MODE,
+        twin_site,
+    )
 
     real = realdata_dir()
     if not (real / "ms-indoor-location-2020" / "site1" / "F1" / "geojson_map.json").is_file():
@@ -194,6 +201,11 @@ def imported() -> Iterator[tuple[str, str]]:
     walk = simulate(site, route=name, mode=TWIN_MODE, device=cal.device, walker=cal.walker, seed=0)
     profile = _json({"walker": str(cal.walker), "device": str(cal.device)})
     yield f"ilc-F1/twin/{name}", _digest(profile, recording_digest(walk))
+    # The twin as the sim-to-real table walks it: slowing at its marks (the pacing code
+    # that the calibrated walker alone does not reach).
+    slowing = dataclasses.replace(cal.walker, mark_speed=TWIN_MARK_SPEED)
+    walk = simulate(site, route=name, mode=TWIN_MODE, device=cal.device, walker=slowing, seed=0)
+    yield f"ilc-F1/twin-marks/{name}", _digest(recording_digest(walk))
 
 
 def dataset() -> Iterator[tuple[str, str]]:
