@@ -443,16 +443,20 @@ def walk(
     ).keep_off_walls(plan, params.wall_distance_m)
     dwells = _dwells(path, params, v_cruise, omega_lim, rng)
     speed_factor = _speed_fluctuation(path.length, params, rng)
-    half_step = 0.5 * float(step_length_m(v_cruise, height))
-    if params.mark_speed != (1.0, 1.0) and len(route.points) > 2:
+    slows = params.mark_speed != (1.0, 1.0) and len(route.points) > 2
+    if slows or route.leg_speeds is not None:
+        # Where each route point falls on the path: where the walker slows, where a
+        # paced leg ends.
+        ends = leg_ends(path, route.points)
+    if slows:
         # Slowing at the route's inner points (a surveyor's marks), before the legs are
         # paced: a paced leg keeps its time, walked faster between its ends.
         slowest = rng.uniform(*params.mark_speed, len(route.points) - 2)
-        ends = leg_ends(path, route.points)
         speed_factor = mark_slowing(ends, speed_factor, slowest, params.mark_slowing_m)
     if route.leg_speeds is not None:
+        half_step = 0.5 * float(step_length_m(v_cruise, height))
         speed_factor = paced_legs(
-            path, route, dwells, v_cruise, omega_lim, half_step, speed_factor, params
+            path, route, ends, dwells, v_cruise, omega_lim, half_step, speed_factor, params
         )
     first_left = bool(rng.random() < 0.5)
 

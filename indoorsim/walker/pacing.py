@@ -75,6 +75,7 @@ def leg_ends(path: SmoothPath, points: NDArray[np.float64]) -> NDArray[np.float6
 def paced_legs(
     path: SmoothPath,
     route: Route,
+    ends: NDArray[np.float64],
     dwells: Sequence[_Dwell],
     v_cruise: float,
     omega_lim: float,
@@ -83,7 +84,8 @@ def paced_legs(
     params: WalkerParams,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The cruising-speed factor with each leg's own speed cap, set so that every leg
-    of the route takes its length over its ``leg_speeds`` entry.
+    of the route takes its length over its ``leg_speeds`` entry; ``ends`` is where each
+    route point falls on the path (:func:`leg_ends`).
 
     A leg's mean speed is below its cap: the walker starts, stops and slows for
     turns within it. So the caps are found by fixed-point iteration on the walk's
@@ -96,7 +98,6 @@ def paced_legs(
     standing than its time, takes longer. Deterministic: no random draw.
     """
     assert route.leg_speeds is not None
-    ends = leg_ends(path, route.points)
     target = np.linalg.norm(np.diff(route.points, axis=0), axis=1) / route.leg_speeds
     n = max(2, math.ceil(path.length / _PACE_DS_M))
     grid = np.linspace(0.0, path.length, n + 1)
