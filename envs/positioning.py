@@ -197,7 +197,7 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       Observations may then hold NaN (``nan_burst``) or lack streams
       (``missing``), as a faulty phone's would. Default: none.
 
-    The registered ids ``indoorsim/<Scenario>-v10`` fix ``scenario``; pass
+    The registered ids ``indoorsim/<Scenario>-v11`` fix ``scenario``; pass
     the others to :func:`gymnasium.make`.
 
     ## Version History
@@ -248,11 +248,15 @@ class IndoorPositioningEnv(gym.Env[Observation, NDArray[np.float64]]):
       are pulled back under the elbow and wrist by gravity, the elbow 1.0–1.15 Hz
       where 1.3–1.8 Hz rang near the step rate): a seed gives other observations and
       errors. Spaces, rewards and arguments are unchanged.
+    - v11: the walks changed (a walker's longer steps take longer too,
+      ``WalkerParams.asymmetry``; the swinging arm swings ±12–18° a little behind the
+      legs, its elbow bent 10–20° and, with the wrist, firm): a seed gives other
+      observations and errors. Spaces, rewards and arguments are unchanged.
 
     Example:
         >>> import gymnasium as gym
         >>> import indoorsim.envs
-        >>> env = gym.make("indoorsim/MinimalRoom-v10")
+        >>> env = gym.make("indoorsim/MinimalRoom-v11")
         >>> obs, info = env.reset(seed=1)
         >>> obs["accel"].shape
         (50, 3)

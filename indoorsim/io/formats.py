@@ -99,6 +99,13 @@ FORMATS: list[LogFormat] = [
         detector=f"{_READERS}.mag_slam:looks_like_mag_slam_walk",
         reader=f"{_READERS}.mag_slam:read_mag_slam_walk",
     ),
+    LogFormat(
+        name="tyrex-attitude",
+        description="Inria Tyrex attitude benchmark walk (folder with accelerometer.txt, "
+        "gyroscope[-calibrated].txt, timeAlignment.txt; whitespace-separated)",
+        detector=f"{_READERS}.tyrex:looks_like_tyrex_folder",
+        reader=f"{_READERS}.tyrex:read_tyrex_folder",
+    ),
 ]
 """The formats, checked in this order by :func:`detect_format`."""
 

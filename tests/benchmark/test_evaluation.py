@@ -224,7 +224,7 @@ def test_start_only_error_is_the_distance_from_the_start():
     assert ev.walks[0].metrics["ae"] == pytest.approx(err.mean())
     row = ev.row()
     assert {"scenario", "mode", "estimator", "seeds", "env_id", "git_revision"} <= set(row)
-    assert set(SUMMARY_KEYS) <= set(row) and row["env_id"] == "indoorsim/MinimalRoom-v10"
+    assert set(SUMMARY_KEYS) <= set(row) and row["env_id"] == "indoorsim/MinimalRoom-v11"
     assert "| start-only | handheld | 1 |" in markdown_table(pd.DataFrame([row]))
 
 

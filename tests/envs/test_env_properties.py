@@ -20,7 +20,7 @@ from hypothesis.extra import numpy as hnp
 import indoorsim.envs  # noqa: F401  (registers the ids)
 from tests.conftest import SWEEP
 
-SMALL = "indoorsim/MinimalRoom-v10"
+SMALL = "indoorsim/MinimalRoom-v11"
 
 DTYPES = (
     hnp.floating_dtypes(sizes=(16, 32, 64))

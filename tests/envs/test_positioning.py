@@ -37,7 +37,7 @@ ENV_IDS = sorted(
     for env_id, spec in gym.registry.items()
     if spec.entry_point == indoorsim.envs.ENTRY_POINT
 )
-SMALL = "indoorsim/MinimalRoom-v10"
+SMALL = "indoorsim/MinimalRoom-v11"
 # Gymnasium recommends a [-1, 1] action box; ours is a position in metres, by design.
 _ACTION_BOX_ADVICE = "we recommend using a symmetric and normalized space"
 
@@ -100,11 +100,11 @@ class _Recorder:
 def test_every_bundled_scenario_is_registered_in_camel_case():
     assert ENV_IDS == sorted(indoorsim.envs.ENV_IDS)
     assert {gym.spec(i).kwargs["scenario"] for i in ENV_IDS} == set(bundled_scenarios())
-    assert indoorsim.envs.env_id("han2023_corridor") == "indoorsim/Han2023Corridor-v10"
-    assert indoorsim.envs.env_id("minimal_room") == "indoorsim/MinimalRoom-v10"
+    assert indoorsim.envs.env_id("han2023_corridor") == "indoorsim/Han2023Corridor-v11"
+    assert indoorsim.envs.env_id("minimal_room") == "indoorsim/MinimalRoom-v11"
     for env_id in ENV_IDS:
         spec = gym.spec(env_id)
-        assert spec.namespace == "indoorsim" and spec.version == indoorsim.envs.VERSION == 10
+        assert spec.namespace == "indoorsim" and spec.version == indoorsim.envs.VERSION == 11
         assert spec.entry_point == "indoorsim.envs.positioning:IndoorPositioningEnv"
         assert spec.max_episode_steps is None
         assert spec.id == indoorsim.envs.env_id(spec.kwargs["scenario"])
@@ -113,7 +113,7 @@ def test_every_bundled_scenario_is_registered_in_camel_case():
 def test_module_colon_id_makes_the_env_without_an_import():
     code = (
         "import gymnasium as gym, sys\n"
-        "env = gym.make('indoorsim.envs:indoorsim/MinimalRoom-v10')\n"
+        "env = gym.make('indoorsim.envs:indoorsim/MinimalRoom-v11')\n"
         "print(type(env.unwrapped).__name__, 'indoorsim.envs' in sys.modules)\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
@@ -317,7 +317,7 @@ def test_a_bad_fault_fails_at_construction():
 
 
 def test_reset_options_override_route_and_mode_for_one_episode():
-    env = gym.make("indoorsim/Han2023Corridor-v10")
+    env = gym.make("indoorsim/Han2023Corridor-v11")
     site = indoorsim.load_site("han2023_corridor")
     default, other = list(site.scenario.routes)[:2]
     assert env.unwrapped.route == default

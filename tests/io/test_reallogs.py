@@ -534,3 +534,80 @@ def test_mag_slam_walks_match_their_readme():
         xy = rec.waypoints[["x", "y"]].to_numpy()
         assert np.hypot(*np.diff(xy, axis=0).T).sum() == pytest.approx(length, abs=0.1)
         assert np.linalg.norm(rec.mag.to_numpy(), axis=1).mean() == pytest.approx(mean, abs=0.05)
+
+
+# ---------------------------------------------------------------------- Tyrex benchmark
+
+
+def _tyrex_walk(folder: Path, *, android: bool, n: int = 50) -> Path:
+    """A small walk in the Tyrex benchmark's layout: a phone lying face up, turning
+    about its z axis at 0.5 rad/s, sampled at 100 Hz from t = 7.5 s on the log's clock."""
+    folder.mkdir(parents=True)
+    t = 7.5 + 0.01 * np.arange(n)
+    up = 9.80665 if android else -1.0  # Android m/s², iOS g (a phone lying still: −1 g)
+    accel = np.column_stack([t, np.zeros(n), np.zeros(n), np.full(n, up)])
+    gyro = np.column_stack([t + 0.002, np.zeros(n), np.zeros(n), np.full(n, 0.5)])
+    np.savetxt(folder / "accelerometer.txt", accel, fmt="%.6f")
+    np.savetxt(folder / ("gyroscope-calibrated.txt" if android else "gyroscope.txt"), gyro)
+    (folder / "timeAlignment.txt").write_text("   6.6000000e-01\n")
+    if android:
+        (folder / "record.properties").write_text("[Device]\nModel = Nexus 5\n")
+        # Rotation vector x, y, z, cos(θ/2), accuracy: a turn of 0.5·t about z.
+        half = 0.25 * (t - t[0])
+        rv = np.column_stack([t, 0 * t, 0 * t, np.sin(half), np.cos(half), 0 * t + 0.17])
+        np.savetxt(folder / "rotation-vector.txt", rv)
+    return folder
+
+
+@pytest.mark.parametrize("android", [True, False])
+def test_tyrex_walk_reads_in_android_units_and_frame(tmp_path: Path, android: bool):
+    """Both platforms read as Android does: gravity +9.81 m/s² on the axis pointing up,
+    rad/s, t from the first sample; the context names the carrying mode."""
+    folder = _tyrex_walk(tmp_path / "Jakob_iPhone5_NoDist_Swinging", android=android)
+    rec = Recording.load(folder)
+    assert rec.meta["source"]["format"] == "tyrex-attitude"
+    assert rec.meta["mode"] == "dangling" and rec.meta["user"] == "Jakob"
+    assert rec.meta["magnetic_disturbance"] is False
+    np.testing.assert_allclose(rec.accel[["x", "y", "z"]].mean().to_numpy(), [0, 0, 9.80665])
+    np.testing.assert_allclose(rec.gyro["z"].to_numpy(), 0.5)
+    assert rec.accel.index[0] == 0.0 and rec.gyro.index[0] == pytest.approx(0.002)
+    assert rec.meta["t0_log_s"] == pytest.approx(7.5)
+    assert rec.meta["rates_hz"]["accel"] == pytest.approx(100.0)
+    assert ("rotation" in rec.streams) is android
+    if android:
+        # The rotation vector's quaternion turns about z as the gyro says.
+        q = rec.rotation[["qw", "qz"]].to_numpy()
+        angle = 2.0 * np.arctan2(q[:, 1], q[:, 0])
+        np.testing.assert_allclose(angle, 0.5 * rec.rotation.index.to_numpy(), atol=1e-9)
+
+
+def test_tyrex_contexts_and_superseded_walks(tmp_path: Path):
+    modes = {}
+    for name in (
+        "Thibaud_Nexus5_Dist_Texting",
+        "Thibaud_Nexus5_Dist_Phoning",
+        "Thibaud_Nexus5_Dist_FrontPocket",
+        "Thibaud_Nexus5_Dist_AR",
+        "Jakob_Nexus5_Dist_Swinging_old",
+    ):
+        modes[name] = Recording.load(_tyrex_walk(tmp_path / name, android=True)).meta["mode"]
+    assert list(modes.values()) == ["handheld", "calling", "pocketed", "AR", None]
+
+
+def test_tyrex_garbage_rows_and_a_missing_gyroscope(tmp_path: Path):
+    folder = _tyrex_walk(tmp_path / "Guillaume_Nexus5_Dist_Texting", android=True)
+    expected = Recording.load(folder)
+    accel = folder / "accelerometer.txt"
+    lines = accel.read_text().splitlines(keepends=True)
+    accel.write_text("".join([*lines[:3], "7.53 0.1 oops 9.8\n", "7.54 0.1\n", *lines[3:]]))
+    with pytest.warns(MalformedRowsWarning, match="skipped 2 malformed rows"):
+        rec = Recording.load(folder)
+    assert rec.meta["malformed_rows"] == {
+        "accelerometer.txt: with a field that is not a number": 1,
+        "accelerometer.txt: with the wrong number of fields": 1,
+    }
+    pd.testing.assert_frame_equal(rec.accel, expected.accel)
+    (folder / "gyroscope-calibrated.txt").unlink()
+    (folder / "gyroscope.txt").write_text("")
+    with pytest.raises(RecordingError, match=r"gyroscope\.txt: no rows"):
+        Recording.load(folder)

@@ -203,7 +203,7 @@ bias turns a standing phone by a degree or two over a few seconds."""
 FIRST_STEP_LAG_S: dict[str, float] = {
     "handheld": 0.42,
     "calling": 0.42,
-    "dangling": 1.05,
+    "dangling": 1.3,
     "pocketed": 0.42,
 }
 """How long after the walker sets off the peak–valley detector finds its first step, s,
@@ -214,13 +214,13 @@ comes 0.8 s after setting off; held at the chest or the ear, the weight shift on
 first stance leg before it, which leans the trunk, swings ‖a‖ enough to count
 (0.40–0.46 s; before v7, with the trunk leaning the other way, it did not, and the
 first step was the peak after that heel strike, 1.02–1.06 s). A swinging hand's
-first counted step is mostly the peak after the first heel strike (on walks v10, 12 of
-16 walkers at 0.99–1.07 s), else one or two steps later (1.1, 1.62, 1.73, 2.22 s): the
-hand, its forearm now pulled back under the elbow by gravity, swings in gently (on
-walks v9 1.0 or 1.5–1.6 s, the table 1.3 between them). A pocket's is either of two
-peaks (0.27–0.28 or 0.95–0.96 s), and the table gives it a value between them. So
-a swinging or pocketed phone's standing time is known to about half a second, and a
-swinging hand's now and then a step or two less."""
+first counted step is either the peak after the first heel strike or the next
+(on walks v11, six walkers: 1.00–1.01 or 1.58–1.66 s; on walks v10 mostly the first,
+on v9 either, as now): the hand, its forearm pulled back under the elbow by gravity,
+swings in gently, and the step it swings in on comes out as the shoulder's drive
+lags the legs. A pocket's is either of two peaks (0.27–0.28 or 0.95–0.96 s). For both
+the table gives a value between the two peaks, so a swinging or pocketed phone's
+standing time is known to about a third of a second."""
 
 
 def _first_step(rec: Recording) -> float | None:

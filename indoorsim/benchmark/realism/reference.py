@@ -10,11 +10,15 @@ raw files are absent; :func:`load_real_motion` reads it and
 :func:`real_magnetic_table` does the same for the field along the path of every
 real walk with a magnetometer and known positions (``real_magnetic.csv``).
 
-Some statistics need streams no local real log of that mode has (a gyroscope
-in a pocket, a phone at the ear): :data:`QUOTED_RANGES` holds the real ranges
-measured on other real walks by the review that opened the "Motion realism"
-issue, marked as quoted, so a reader sees which ranges this repository can
-reproduce and which it takes on trust.
+Some statistics need streams no log in the shared real-data folder has (a
+gyroscope in a pocket, at the ear or in a swinging hand). Two sources fill them:
+the Inria Tyrex attitude benchmark's walks (:data:`TYREX_SOURCE`, read from a copy
+of its repository placed in a real-data folder, their rows committed with the
+others: a source whose files are absent keeps its committed rows when the table is
+refreshed, :func:`merge_refreshed`), and :data:`QUOTED_RANGES`, the real ranges
+measured on other real walks by the review that opened the "Motion realism" issue,
+marked as quoted, so a reader sees which ranges this repository can reproduce and
+which it takes on trust.
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ from indoorsim.io.recording import Recording
 from indoorsim.walker.real_walkers import VIGOUR_FIELDS
 
 __all__ = [
+    "GYRO_KEYS",
     "HELD_FLAT",
     "LIGHT_MODE",
     "LINE_MODE",
@@ -50,12 +55,14 @@ __all__ = [
     "REAL_PROFILES_CSV",
     "REAL_RADIO_CSV",
     "REAL_SOURCES",
+    "TYREX_SOURCE",
     "RealSource",
     "load_real_magnetic",
     "load_real_motion",
     "load_real_profiles",
     "load_real_radio",
     "mean_profiles",
+    "merge_refreshed",
     "real_magnetic_table",
     "real_motion_table",
     "real_profiles",
@@ -80,6 +87,31 @@ class RealSource:
     """Glob of its walks (files or folders) relative to the real-data folder."""
     licence: str
     phone: str
+    statistics: tuple[str, ...] | None = None
+    """The statistics its walks are a reference for (the others are left NaN); None: all."""
+    min_walking_s: float = 0.0
+    """A walk with less walking found in it gives no statistics."""
+
+
+GYRO_KEYS = ("gyro_rms_1", "gyro_rms_2", "gyro_rms_3")
+
+TYREX_SOURCE = RealSource(
+    name="tyrex-attitude",
+    pattern="tyrex-attitude/datasets/*/*_*_*Dist_*",
+    licence="CeCILL v2.1 (Inria Tyrex; statistics only, no data copied)",
+    phone="Nexus 5 ~200 Hz, iPhone 4S / 5 ~100 Hz; accelerometer and gyroscope",
+    statistics=GYRO_KEYS,
+    min_walking_s=30.0,
+)
+"""The walks of Michel et al.'s attitude benchmark (PerCom 2017;
+github.com/tyrex-team/benchmarks-attitude-smartphones, commit 8ad1100): 3 walkers × 3
+phones × 2 runs, texting, phoning, swinging, front and back pocket, about two minutes
+each, looping a motion-capture room. They are the only real gyroscope logs here of a
+phone at the ear, in a swinging hand and in a pocket, and are a reference for the gyro
+RMS only: their walkers step 1.2–1.9 times a second and turn every few metres, so their
+‖a‖ levels and spectral shares belong to slow walking round a room (with the phone in
+front or at the ear the walking finder, tuned on brisker walks, finds under 30 s of
+walking in 24 of the 36; those walks are left out)."""
 
 
 REAL_SOURCES = (
@@ -101,6 +133,7 @@ REAL_SOURCES = (
         licence="CC BY 4.0 (University of Oxford)",
         phone="Samsung Galaxy S6, 100 Hz, accelerometer only",
     ),
+    TYREX_SOURCE,
 )
 
 MAGNETIC_SOURCES = (
@@ -161,9 +194,6 @@ QUOTED_RANGES: dict[tuple[str, str], tuple[float, float]] = {
     ("calling", "gyro_rms_1"): (0.2, 0.65),
     ("calling", "gyro_rms_2"): (0.19, 0.53),
     ("calling", "gyro_rms_3"): (0.16, 0.48),
-    ("dangling", "gyro_rms_1"): (3.0, 4.0),
-    ("dangling", "gyro_rms_2"): (1.7, 2.3),
-    ("dangling", "gyro_rms_3"): (1.5, 2.1),
     ("pocketed", "gyro_rms_1"): (1.35, 1.45),
     ("pocketed", "gyro_rms_2"): (0.96, 1.34),
     ("pocketed", "gyro_rms_3"): (0.78, 0.93),
@@ -197,8 +227,10 @@ QUOTED_RANGES: dict[tuple[str, str], tuple[float, float]] = {
 walks measured by the reviews that opened them, some from data sets not in the real-data
 folder), by (mode, statistic).
 Its peak-to-peak figures are left out: they were taken at each log's own rate over whole
-walks, not per stride at the common rate. Its dangling gyro figures are single values
-(≈ 3.5 / 2.0 / 1.8 rad/s), given here ±15 %, the spread of its other dangling figures.
+walks, not per stride at the common rate. So are its dangling gyro figures (single values,
+≈ 3.5 / 2.0 / 1.8 rad/s, source not named): the 18 swinging-hand walks of the Tyrex
+benchmark (:data:`TYREX_SOURCE`) measure 1.16–2.39 / 0.73–1.43 / 0.38–1.15 rad/s, none of
+them near those figures.
 The comparison takes the union of a quoted range and the range measured here."""
 
 
@@ -214,6 +246,17 @@ def _real_walks(realdata: Path) -> list[tuple[RealSource, Path, Recording, str]]
     return walks
 
 
+def _source_statistics(source: RealSource, rec: Recording) -> dict[str, float]:
+    """:func:`motion_statistics` of a walk, NaN where its source is no reference."""
+    stats = motion_statistics(rec)
+    walked = stats["walking_s"] >= source.min_walking_s
+    wanted = set(stats if source.statistics is None else source.statistics)
+    return {
+        key: value if key == "walking_s" or (walked and key in wanted) else np.nan
+        for key, value in stats.items()
+    }
+
+
 def real_motion_table(realdata: Path) -> pd.DataFrame:
     """Motion statistics of every real walk in a modelled carrying mode, one row per walk."""
     rows = [
@@ -223,11 +266,20 @@ def real_motion_table(realdata: Path) -> pd.DataFrame:
             "mode": mode,
             "phone": source.phone,
             "licence": source.licence,
-            **motion_statistics(rec),
+            **_source_statistics(source, rec),
         }
         for source, path, rec, mode in _real_walks(realdata)
     ]
     return pd.DataFrame(rows, columns=["dataset", "walk", "mode", "phone", "licence", *MOTION_KEYS])
+
+
+def merge_refreshed(fresh: pd.DataFrame, committed: pd.DataFrame) -> pd.DataFrame:
+    """``fresh`` (measured from a real-data folder) with the ``committed`` rows of every
+    data set ``fresh`` has no walk of: a source whose files are not in that folder (the
+    Tyrex walks, kept outside the shared folder for their licence) keeps its rows."""
+    kept = committed[~committed["dataset"].isin(set(fresh["dataset"]))]
+    frames = [frame for frame in (fresh, kept) if len(frame)]
+    return pd.concat(frames, ignore_index=True) if frames else fresh
 
 
 HELD_FLAT: list[tuple[float, str, dict[str, float]]] = [(0.0, "handheld", {"pitch_deg": 0.0})]
@@ -375,8 +427,11 @@ def mean_profiles(labelled: list[tuple[str, Recording]]) -> pd.DataFrame:
 
 
 def real_profiles(realdata: Path) -> pd.DataFrame:
-    """The mean spectra and ‖a‖ histogram of the real walks of each modelled mode."""
-    return mean_profiles([(mode, rec) for _, _, rec, mode in _real_walks(realdata)])
+    """The mean spectra and ‖a‖ histogram of the real walks of each modelled mode (of the
+    sources that are a reference for every statistic)."""
+    return mean_profiles(
+        [(mode, rec) for source, _, rec, mode in _real_walks(realdata) if source.statistics is None]
+    )
 
 
 def load_real_motion(path: Path = REAL_MOTION_CSV) -> pd.DataFrame:

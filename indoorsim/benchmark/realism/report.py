@@ -39,11 +39,13 @@ from indoorsim.benchmark.realism.reference import (
     REAL_MOTION_CSV,
     REAL_PROFILES_CSV,
     REAL_RADIO_CSV,
+    TYREX_SOURCE,
     load_real_magnetic,
     load_real_motion,
     load_real_profiles,
     load_real_radio,
     mean_profiles,
+    merge_refreshed,
     real_magnetic_table,
     real_motion_table,
     real_profiles,
@@ -572,7 +574,9 @@ def write_report(
     sites = list(dict.fromkeys(sim["site"]))
     table.to_csv(out / "realism_motion.csv", index=False)
     sim.to_csv(out / "realism_sim_walks.csv", index=False)
-    n_real = real.groupby("mode").size().to_dict()
+    shared = real[real["dataset"] != TYREX_SOURCE.name] if "dataset" in real else real
+    n_real = shared.groupby("mode").size().to_dict()
+    n_tyrex = int((real["dataset"] == TYREX_SOURCE.name).sum()) if "dataset" in real else 0
     n_seeds = int(sim.groupby(["mode", "site"]).size().median())
     lines = [
         "# Realism: simulated phones and buildings beside real ones",
@@ -583,7 +587,10 @@ def write_report(
         "simulated walks, over the walking parts found from the accelerometer alone, at a "
         "common 50 Hz. Real range: min–max over the real walks of that carrying mode "
         "(" + ", ".join(f"{m}: {n}" for m, n in sorted(n_real.items())) + " walks from "
-        "`shared/realdata`: ILC 2020 traces, MIT; Oxford step counter, CC BY 4.0), joined "
+        "`shared/realdata`: ILC 2020 traces, MIT; Oxford step counter, CC BY 4.0; and for "
+        f"the gyro RMS only, {n_tyrex} walks of the Inria Tyrex attitude benchmark, texting, "
+        "phoning, swinging and pocketed, CeCILL v2.1, their statistics committed and no "
+        "data copied; a walk in which under 30 s of walking is found gives none), joined "
         "with the ranges quoted by the Motion realism issue where it gives one. Simulated: "
         f"each site's median over {n_seeds} seeds (the gyro heading drift by its size, "
         "real and simulated: its sign goes with the pocket's side); ✓ inside the real "
@@ -707,7 +714,8 @@ def run_realism(
     """
     if realdata is not None or refresh_reference:
         folder = realdata_dir(realdata)
-        real, real_curves = real_motion_table(folder), real_profiles(folder)
+        real = merge_refreshed(real_motion_table(folder), load_real_motion())
+        real_curves = real_profiles(folder)
         real_field, real_radio = real_magnetic_table(folder), real_radio_table(folder)
         if refresh_reference:
             real.to_csv(REAL_MOTION_CSV, index=False, float_format="%.6g")

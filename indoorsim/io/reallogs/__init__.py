@@ -12,6 +12,9 @@ Formats (each reader's docstring gives its full mapping):
   app by Kelvin Choi (tszheichoi): :func:`read_sensor_logger` (:mod:`.sensor_logger`).
 * ``mag-slam-1d`` — the 1-D magnetic-field SLAM walks (``*.mat``, magnetometer
   and ARKit positions): :func:`read_mag_slam_walk` (:mod:`.mag_slam`).
+* ``tyrex-attitude`` — walks of the Inria Tyrex attitude-estimation benchmark
+  (a folder of whitespace-separated ``accelerometer.txt``, ``gyroscope*.txt``...):
+  :func:`read_tyrex_folder` (:mod:`.tyrex`).
 
 Conventions shared by every reader:
 
@@ -52,6 +55,7 @@ from indoorsim.io.reallogs.ilc import read_ilc_trace
 from indoorsim.io.reallogs.mag_slam import read_mag_slam_walk
 from indoorsim.io.reallogs.oxford import read_oxford_folder, read_oxford_validation
 from indoorsim.io.reallogs.sensor_logger import read_sensor_logger
+from indoorsim.io.reallogs.tyrex import read_tyrex_folder
 
 __all__ = [
     "FORMATS",
@@ -64,5 +68,6 @@ __all__ = [
     "read_oxford_folder",
     "read_oxford_validation",
     "read_sensor_logger",
+    "read_tyrex_folder",
     "register_format",
 ]

@@ -204,6 +204,9 @@ CARRY_MODES = {
     "frontpocket": "pocketed",
     "backpocket": "pocketed",
     "swingingarm": "dangling",
+    "swinging": "dangling",
+    "texting": "handheld",
+    "phoning": "calling",
 }
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -10,15 +11,18 @@ import pytest
 
 from indoorsim.benchmark.realism.light import LIGHT_KEYS
 from indoorsim.benchmark.realism.magnetic import MAGNETIC_KEYS
-from indoorsim.benchmark.realism.motion import MOTION_KEYS
+from indoorsim.benchmark.realism.motion import MOTION_KEYS, motion_statistics
 from indoorsim.benchmark.realism.radio import RADIO_KEYS
 from indoorsim.benchmark.realism.reference import (
+    GYRO_KEYS,
     QUOTED_RANGES,
     RADIO_MODE,
+    TYREX_SOURCE,
     load_real_magnetic,
     load_real_motion,
     load_real_profiles,
     load_real_radio,
+    merge_refreshed,
     real_magnetic_table,
     real_motion_table,
     real_profiles,
@@ -38,6 +42,9 @@ from indoorsim.benchmark.realism.report import (
     simulate_motion,
     write_report,
 )
+from indoorsim.io.recording import Recording
+from indoorsim.scenario.load import load_site
+from indoorsim.simulate import simulate
 from indoorsim.walker.real_walkers import VIGOUR_FIELDS, load_real_walkers
 from tests.conftest import REALDATA
 
@@ -118,11 +125,60 @@ def test_a_kind_of_several_buildings_is_judged_by_its_median_building():
 
 @pytest.mark.skipif(not REALDATA.is_dir(), reason=f"no real data at {REALDATA}")
 def test_the_committed_real_table_is_what_the_real_logs_give():
-    fresh = real_motion_table(REALDATA)
+    """The shared folder's walks measure as committed; the Tyrex walks (not in it) keep
+    their committed rows, a reference for the gyro RMS only."""
     committed = load_real_motion()
+    fresh = merge_refreshed(real_motion_table(REALDATA), committed)
     assert list(fresh["walk"]) == list(committed["walk"])
     for key in MOTION_KEYS:
         np.testing.assert_allclose(fresh[key], committed[key], rtol=1e-5, err_msg=key)
+    tyrex = committed[committed["dataset"] == TYREX_SOURCE.name]
+    assert sorted(set(tyrex["mode"])) == ["calling", "dangling", "handheld", "pocketed"]
+    others = [k for k in MOTION_KEYS if k not in (*GYRO_KEYS, "walking_s")]
+    assert tyrex[others].isna().all().all()
+    walked = tyrex["walking_s"] >= TYREX_SOURCE.min_walking_s
+    assert tyrex.loc[walked, list(GYRO_KEYS)].notna().all().all()
+    assert tyrex.loc[~walked, list(GYRO_KEYS)].isna().all().all()
+
+
+def _as_tyrex_walk(rec: Recording, folder: Path, seconds: float) -> None:
+    """The first ``seconds`` of a simulated recording written as a Tyrex Android walk."""
+    folder.mkdir(parents=True)
+    for name, file in (("accel", "accelerometer.txt"), ("gyro", "gyroscope-calibrated.txt")):
+        df = rec.streams[name]
+        df = df[df.index < df.index[0] + seconds]
+        np.savetxt(folder / file, np.column_stack([df.index, df[["x", "y", "z"]]]), fmt="%.9g")
+    (folder / "timeAlignment.txt").write_text("0\n")
+    (folder / "record.properties").write_text("[Device]\nModel = Nexus 5\n")
+
+
+def test_a_source_is_a_reference_only_for_its_statistics(tmp_path: Path):
+    """A Tyrex walk gives its gyro RMS (the same as the recording's own) and nothing
+    else; one with less walking than the source asks for gives nothing."""
+    site = load_site("han2023_corridor")
+    rec = simulate(site, route="trajectory", mode="dangling", device="nexus_5x", seed=0)
+    root = tmp_path / "tyrex-attitude" / "datasets" / "android"
+    _as_tyrex_walk(rec, root / "Sim_Nexus5_NoDist_Swinging", 1e9)
+    _as_tyrex_walk(rec, root / "Sim_Nexus5_NoDist_Phoning", 20.0)
+    table = real_motion_table(tmp_path).set_index("walk")
+    assert list(table["dataset"]) == ["tyrex-attitude"] * 2
+    whole = table.loc["Sim_Nexus5_NoDist_Swinging"]
+    own = motion_statistics(Recording.load(root / "Sim_Nexus5_NoDist_Swinging"))
+    assert whole["walking_s"] >= TYREX_SOURCE.min_walking_s
+    gyro = whole[list(GYRO_KEYS)].astype(float)
+    np.testing.assert_allclose(gyro, [own[k] for k in GYRO_KEYS])
+    assert whole[["acc_std", "share_step", "step_hz"]].isna().all()
+    short = table.loc["Sim_Nexus5_NoDist_Phoning"]
+    assert short["walking_s"] < TYREX_SOURCE.min_walking_s
+    assert short[[k for k in MOTION_KEYS if k != "walking_s"]].isna().all()
+
+
+def test_a_refreshed_table_keeps_the_sources_whose_files_are_absent():
+    committed = pd.DataFrame({"dataset": ["a", "b", "b"], "walk": ["1", "2", "3"], "x": [1, 2, 3]})
+    fresh = pd.DataFrame({"dataset": ["a", "c"], "walk": ["1", "4"], "x": [10, 40]})
+    merged = merge_refreshed(fresh, committed)
+    assert list(merged["walk"]) == ["1", "4", "2", "3"]
+    assert list(merged["x"]) == [10, 40, 2, 3]
 
 
 @pytest.mark.skipif(not REALDATA.is_dir(), reason=f"no real data at {REALDATA}")

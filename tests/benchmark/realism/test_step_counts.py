@@ -33,9 +33,9 @@ REAL_POSITIONS = {
 }
 """The Oxford carrying positions each simulated mode models (front pockets only)."""
 SEEDS = (0, 1, 2, 3)
-"""Walks per site: the arm's swing, the elbow and the wrist are drawn per walk, and at
-0.5 s the dangling walkers of seed 0 lose 11–32 % of their steps on the four sites where
-those of seed 1 lose 35–46 %, so the median is taken over several walkers on every site."""
+"""Walks per site: the arm's swing, its lag, the elbow and the wrist are drawn per walk,
+and at 0.5 s one swinging-arm walker loses 0–8 % of its steps where another loses
+40–60 %, so the median is taken over several walkers on every site."""
 MARGIN_PP = 15.0
 """Allowance beyond the real walks' range, percentage points: two to four real
 walks by one or two people per position bound the real spread from below."""
