@@ -49,7 +49,9 @@ def add_realism(subparsers: Subparsers) -> None:
         "--refresh-reference",
         action="store_true",
         help="measure the real logs (--realdata, $INDOORSIM_REALDATA or ../shared/realdata) "
-        "and write their statistics over the committed table",
+        "and write their statistics over the committed table; a data set not in the folder "
+        "keeps its committed rows (the Tyrex attitude benchmark's walks are measured from "
+        "a copy of its repository at <folder>/tyrex-attitude)",
     )
     parser.add_argument(
         "--seeds",

@@ -755,9 +755,10 @@ class Dangling(CarryMode):
 
 
 def _no_hyperextension(flex: NDArray[np.float64], bent: float) -> NDArray[np.float64]:
-    """Elbow flexion (rad) that stays above zero: unchanged above a quarter of the mean
-    flexion ``bent``, and below it bending smoothly onto zero (a softplus whose scale
-    is that quarter), so the forearm's angle keeps two continuous derivatives."""
+    """Elbow flexion (rad) kept above zero by a softplus whose scale is a quarter of
+    the mean flexion ``bent``: within 2 % of ``flex`` above three quarters of
+    ``bent``, bending smoothly onto zero below, so the forearm's angle keeps its
+    continuous derivatives."""
     scale = 0.25 * bent
     return scale * np.logaddexp(0.0, flex / scale)
 

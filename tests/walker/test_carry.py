@@ -12,6 +12,7 @@ import indoorsim.walker.carry as carry_module
 from indoorsim.scenario import RouteSpec
 from indoorsim.walker import limbs
 from indoorsim.walker.carry import Handheld, PhoneTrajectory, carry
+from indoorsim.walker.carry_modes import _no_hyperextension
 from indoorsim.walker.gait import BodyTrajectory, WalkerParams, walk
 from indoorsim.walker.route import plan_route
 from indoorsim.world.plan import FloorPlan
@@ -270,6 +271,37 @@ def test_dangling_arm_swings_like_a_pendulum(straight_body):
     freq = np.fft.rfftfreq(len(swing), 1 / straight_body.rate_hz)
     stride_hz = 0.5 / np.diff(straight_body.steps["t"].to_numpy()).mean()
     assert freq[np.argmax(spectrum)] == pytest.approx(stride_hz, rel=0.1)
+
+
+def test_dangling_swing_lags_the_legs_by_its_drawn_share_of_a_stride(straight_body):
+    """The arm's swing comes ``swing_lag`` strides after the legs' antiphase: a quarter
+    stride later is a quarter turn of the swing's stride-rate phase."""
+    steady = _steady(straight_body)
+    stride_hz = 0.5 / np.diff(straight_body.steps["t"].to_numpy()).mean()
+    t = straight_body.t[steady]
+    phases = []
+    for lag in (0.0, 0.25):
+        params = {"grip_deg": 0.0, "swing_lag": (lag, lag)}
+        phone = carry(straight_body, [(0.0, "dangling", params)], np.random.default_rng(4))
+        y = _rot(phone).apply([0.0, 1.0, 0.0])[steady]
+        swing = np.arcsin(y[:, 2])
+        phases.append(
+            np.angle(np.sum((swing - swing.mean()) * np.exp(-2j * np.pi * stride_hz * t)))
+        )
+    later = np.degrees(np.angle(np.exp(1j * (phases[0] - phases[1]))))
+    assert later == pytest.approx(90.0, abs=10.0)
+
+
+def test_a_bent_elbow_never_straightens_past_the_straight_arm():
+    """The floor under the elbow's flexion: positive, smooth, and the flexion itself
+    well above it."""
+    bent = np.radians(15.0)
+    flex = np.linspace(-3 * bent, 3 * bent, 601)
+    kept = _no_hyperextension(flex, bent)
+    assert (kept > 0).all() and (np.diff(kept) > 0).all()
+    above = flex >= 0.75 * bent
+    np.testing.assert_allclose(kept[above], flex[above], rtol=0.02)
+    assert kept[0] < 0.01 * bent  # fully straight, not bent back
 
 
 def test_hanging_forearm_matches_the_rigid_forearm_on_a_swinging_elbow():
