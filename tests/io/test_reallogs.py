@@ -599,11 +599,12 @@ def test_tyrex_garbage_rows_and_a_missing_gyroscope(tmp_path: Path):
     expected = Recording.load(folder)
     accel = folder / "accelerometer.txt"
     lines = accel.read_text().splitlines(keepends=True)
-    accel.write_text("".join([*lines[:3], "7.53 0.1 oops 9.8\n", "7.54 0.1\n", *lines[3:]]))
-    with pytest.warns(MalformedRowsWarning, match="skipped 2 malformed rows"):
+    garbage = ["7.53 0.1 oops 9.8\n", "7.54 0.1\n", "nan 0.1 0.2 9.8\n"]
+    accel.write_text("".join([*lines[:3], *garbage, *lines[3:]]))
+    with pytest.warns(MalformedRowsWarning, match="skipped 3 malformed rows"):
         rec = Recording.load(folder)
     assert rec.meta["malformed_rows"] == {
-        "accelerometer.txt: with a field that is not a number": 1,
+        "accelerometer.txt: with a field that is not a number": 2,
         "accelerometer.txt: with the wrong number of fields": 1,
     }
     pd.testing.assert_frame_equal(rec.accel, expected.accel)

@@ -43,7 +43,8 @@ _GYRO_FILES = ("gyroscope-calibrated.txt", "gyroscope.txt")
 def _rows(path: Path, width: int, malformed: Counter[str]) -> NDArray[np.float64]:
     """The first ``width`` numbers of each row of a whitespace-separated text file.
 
-    A row with fewer fields, or a field that is not a number, is skipped and counted.
+    A row with fewer fields, a field that is not a number or a time (the first) that is
+    not finite is skipped and counted.
     """
     good, short, garbage = [], 0, 0
     for line in path.read_text(encoding="utf-8", errors="replace").splitlines():
@@ -54,8 +55,13 @@ def _rows(path: Path, width: int, malformed: Counter[str]) -> NDArray[np.float64
             short += 1
             continue
         try:
-            good.append([float(f) for f in fields[:width]])
+            row = [float(f) for f in fields[:width]]
         except ValueError:
+            garbage += 1
+            continue
+        if math.isfinite(row[0]):
+            good.append(row)
+        else:
             garbage += 1
     malformed[f"{path.name}: {WRONG_FIELD_COUNT}"] += short
     malformed[f"{path.name}: {NOT_A_NUMBER}"] += garbage
@@ -109,9 +115,7 @@ def read_tyrex_folder(path: PathLike) -> Recording:
     if not len(accel) or not len(gyro):
         empty = "accelerometer.txt" if not len(accel) else gyro_file.name
         raise RecordingError(f"{folder / empty}: no rows")
-    t0 = float(min(accel[0, 0], gyro[0, 0]))
-    if not math.isfinite(t0):
-        raise RecordingError(f"{folder}: the first sample's time is not a number")
+    t0 = float(min(accel[:, 0].min(), gyro[:, 0].min()))
     scale = 1.0 if android else -STANDARD_GRAVITY
     streams: dict[str, pd.DataFrame] = {
         name: time_frame(rows[:, 0] - t0, dict(zip(XYZ, (k * rows[:, 1:]).T, strict=True)))
