@@ -258,8 +258,7 @@ def test_pocketed_phone_swings_sideways_as_real_pockets_do(straight_body):
 def test_dangling_arm_swings_like_a_pendulum(straight_body):
     phone = carry(straight_body, [(0.0, "dangling", {"grip_deg": 0.0})], np.random.default_rng(4))
     steady = _steady(straight_body)
-    y = _rot(phone).apply([0.0, 1.0, 0.0])[steady]
-    swing = np.degrees(np.arcsin(y[:, 2]))
+    swing = np.degrees(_swing_rad(phone, steady))
     # ±12–18° about the shoulder, and the forearm follows through at the elbow:
     # the hand swings further, and turns at the rates of real swinging phones (the
     # 18 Tyrex benchmark walks: ‖ω‖ RMS 1.4–2.7 rad/s, its 99th percentile 160–300 °/s).
@@ -269,22 +268,29 @@ def test_dangling_arm_swings_like_a_pendulum(straight_body):
     # The swing's dominant frequency is the stride frequency.
     spectrum = np.abs(np.fft.rfft(swing - swing.mean()))
     freq = np.fft.rfftfreq(len(swing), 1 / straight_body.rate_hz)
-    stride_hz = 0.5 / np.diff(straight_body.steps["t"].to_numpy()).mean()
-    assert freq[np.argmax(spectrum)] == pytest.approx(stride_hz, rel=0.1)
+    assert freq[np.argmax(spectrum)] == pytest.approx(_stride_hz(straight_body), rel=0.1)
+
+
+def _swing_rad(phone: PhoneTrajectory, steady: np.ndarray) -> np.ndarray:
+    """A swinging phone's angle in the swing's plane (its y axis up from level), rad."""
+    return np.arcsin(_rot(phone).apply([0.0, 1.0, 0.0])[steady][:, 2])
+
+
+def _stride_hz(body: BodyTrajectory) -> float:
+    return 0.5 / float(np.diff(body.steps["t"].to_numpy()).mean())
 
 
 def test_dangling_swing_lags_the_legs_by_its_drawn_share_of_a_stride(straight_body):
     """The arm's swing comes ``swing_lag`` strides after the legs' antiphase: a quarter
     stride later is a quarter turn of the swing's stride-rate phase."""
     steady = _steady(straight_body)
-    stride_hz = 0.5 / np.diff(straight_body.steps["t"].to_numpy()).mean()
+    stride_hz = _stride_hz(straight_body)
     t = straight_body.t[steady]
     phases = []
     for lag in (0.0, 0.25):
         params = {"grip_deg": 0.0, "swing_lag": (lag, lag)}
         phone = carry(straight_body, [(0.0, "dangling", params)], np.random.default_rng(4))
-        y = _rot(phone).apply([0.0, 1.0, 0.0])[steady]
-        swing = np.arcsin(y[:, 2])
+        swing = _swing_rad(phone, steady)
         phases.append(
             np.angle(np.sum((swing - swing.mean()) * np.exp(-2j * np.pi * stride_hz * t)))
         )
